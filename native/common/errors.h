@@ -1,0 +1,71 @@
+// Typed exceptions shared by every entry point (DESIGN.md §3).
+//
+// Each class maps one-to-one to a Python exception in paramorph_native; all
+// mesh problems derive from MeshError, itself a std::invalid_argument so C++
+// callers can catch the whole family. Messages name the offending elements.
+#pragma once
+
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace paramorph {
+
+/// Base of every "this input mesh cannot be processed" error.
+class MeshError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+/// The mesh has boundary loops where a closed surface is required.
+class NotClosedError : public MeshError { using MeshError::MeshError; };
+/// The mesh is closed and connected but its genus is not zero.
+class NotGenusZeroError : public MeshError { using MeshError::MeshError; };
+/// The mesh has more than one connected component.
+class DisconnectedError : public MeshError { using MeshError::MeshError; };
+/// An edge has more than two faces, or a vertex's faces do not form one fan.
+class NonManifoldError : public MeshError { using MeshError::MeshError; };
+/// Faces with (near) zero area or repeated vertex indices.
+class DegenerateFaceError : public MeshError { using MeshError::MeshError; };
+/// Malformed arrays: NaN/inf, index out of range, wrong shape or dtype.
+class InvalidInputError : public MeshError { using MeshError::MeshError; };
+/// Hard constraints that cannot all be met (duplicate pins, unreachable pins).
+class ConstraintError : public MeshError { using MeshError::MeshError; };
+
+/// Raised when the caller's progress callback asks to stop.
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled by the progress callback") {}
+};
+
+/// An OpenCL device failed (build log, out of resources); callers may fall back.
+class ComputeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+namespace detail {
+template <typename... Parts>
+std::string concat(const Parts&... parts) {
+  std::ostringstream out;
+  (out << ... << parts);
+  return out.str();
+}
+}  // namespace detail
+
+}  // namespace paramorph
+
+/// Checked precondition: throws ExceptionType with the streamed message parts.
+/// Debug builds append file and line so a failing check is easy to find.
+#ifdef PARAMORPH_DEBUG_CHECKS
+#define PM_REQUIRE(condition, ExceptionType, ...)                                        \
+  do {                                                                                    \
+    if (!(condition))                                                                     \
+      throw ExceptionType(::paramorph::detail::concat(__VA_ARGS__, " [", __FILE__, ":", \
+                                                      __LINE__, "]"));                    \
+  } while (0)
+#else
+#define PM_REQUIRE(condition, ExceptionType, ...)                            \
+  do {                                                                        \
+    if (!(condition)) throw ExceptionType(::paramorph::detail::concat(__VA_ARGS__)); \
+  } while (0)
+#endif

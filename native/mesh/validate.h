@@ -1,0 +1,49 @@
+// Mesh validation (DESIGN.md §3): what is wrong with an input mesh, and where.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/tri_mesh.h"
+
+namespace paramorph {
+
+/// Everything validate() finds. Index lists are 0-based and sorted.
+struct MeshReport {
+  Index vertices = 0;
+  Index faces = 0;
+  Index edges = 0;
+  Index components = 0;
+  Index boundary_loops = 0;
+  Index euler_characteristic = 0;
+  /// Genus from chi = 2 - 2g - b for a connected orientable manifold; -1 when
+  /// undefined (disconnected or non-manifold mesh).
+  Index genus = -1;
+  std::vector<Index> non_manifold_edges;     ///< edge indices with > 2 faces
+  std::vector<Index> non_manifold_vertices;  ///< vertices whose faces form several fans
+  std::vector<Index> degenerate_faces;       ///< repeated indices or area <= tolerance
+  std::vector<Index> isolated_vertices;      ///< vertices in no face
+  std::vector<Index> inconsistent_orientation_edges;  ///< interior edges used twice in one direction
+  bool is_closed_genus0 = false;
+};
+
+/// Checks raw arrays before any topology is built: shapes, finite coordinates,
+/// index range. Throws InvalidInputError naming the first offending entries.
+void validate_arrays(const MatrixX3d& V, const MatrixX3i& F);
+
+/// Full report. Never throws for a well-formed array pair (call validate_arrays
+/// first). A face is degenerate when two indices repeat or its area is below
+/// `relative_area_tolerance` times the squared bounding-box diagonal.
+MeshReport validate(const TriMesh& mesh, double relative_area_tolerance = 1e-14);
+
+/// Throws the matching MeshError subclass unless the mesh is a closed,
+/// connected, manifold, consistently oriented genus-0 surface without
+/// degenerate faces or isolated vertices. Checks in this order: non-manifold,
+/// degenerate, disconnected (including isolated vertices), not closed (says how
+/// many boundary loops), orientation, not genus 0 (says the genus).
+void require_closed_genus0(const MeshReport& report);
+
+/// Short human-readable list "0, 5, 17 (and 3 more)" for error messages.
+std::string format_indices(const std::vector<Index>& indices, std::size_t max_shown = 10);
+
+}  // namespace paramorph

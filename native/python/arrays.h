@@ -1,0 +1,67 @@
+// numpy <-> Eigen conversions shared by the bindings: checked shapes and dtypes,
+// InvalidInputError (not a TypeError) for anything malformed.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+
+#include "common/errors.h"
+#include "mesh/types.h"
+
+namespace paramorph::python {
+
+namespace py = pybind11;
+
+/// (n, 3) float64 or float32 (any contiguity) -> MatrixX3d copy.
+inline MatrixX3d to_vertices(const py::handle& obj, const char* name = "V") {
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr, InvalidInputError, name, " must be a numpy array");
+  const auto kind = arr.dtype().kind();
+  PM_REQUIRE(kind == 'f' || kind == 'i' || kind == 'u', InvalidInputError, name,
+             " must be float64 or float32, got dtype ", std::string(py::str(arr.dtype())));
+  PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 3, InvalidInputError, name,
+             " must have shape (n, 3), got ", std::string(py::str(py::cast(arr.attr("shape")))));
+  auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  MatrixX3d out(arr.shape(0), 3);
+  if (arr.shape(0) > 0) std::copy(data.data(), data.data() + data.size(), out.data());
+  return out;
+}
+
+/// (m, 3) int32 or int64 -> MatrixX3i copy; values checked to fit int32.
+inline MatrixX3i to_faces(const py::handle& obj, const char* name = "F") {
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr, InvalidInputError, name, " must be a numpy array");
+  const auto kind = arr.dtype().kind();
+  PM_REQUIRE(kind == 'i' || kind == 'u', InvalidInputError, name,
+             " must be int32 or int64, got dtype ", std::string(py::str(arr.dtype())));
+  PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 3, InvalidInputError, name,
+             " must have shape (m, 3), got ", std::string(py::str(py::cast(arr.attr("shape")))));
+  auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+  MatrixX3i out(arr.shape(0), 3);
+  const std::int64_t* p = data.data();
+  for (py::ssize_t k = 0; k < data.size(); ++k) {
+    PM_REQUIRE(p[k] >= 0 && p[k] <= std::numeric_limits<Index>::max(), InvalidInputError,
+               name, " has index ", p[k], " at face ", k / 3, ", out of range");
+    out.data()[k] = Index(p[k]);
+  }
+  return out;
+}
+
+/// Eigen row-major matrix -> new numpy array (copy; results are small relative to solves).
+template <typename Derived>
+py::array to_numpy(const Eigen::MatrixBase<Derived>& m) {
+  using Scalar = typename Derived::Scalar;
+  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm = m;
+  if (m.cols() == 1)
+    return py::array_t<Scalar>({py::ssize_t(rm.rows())}, rm.data());
+  return py::array_t<Scalar>({py::ssize_t(rm.rows()), py::ssize_t(rm.cols())}, rm.data());
+}
+
+template <typename T>
+py::array to_numpy(const std::vector<T>& v) {
+  return py::array_t<T>({py::ssize_t(v.size())}, v.data());
+}
+
+}  // namespace paramorph::python

@@ -1,0 +1,11 @@
+// One bind_<topic> per file; module.cpp only calls them.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace paramorph::python {
+void bind_errors(pybind11::module_& m);
+void bind_mesh(pybind11::module_& m);
+void bind_compute(pybind11::module_& m);
+void bind_sphere(pybind11::module_& m);
+}  // namespace paramorph::python

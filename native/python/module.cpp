@@ -1,0 +1,11 @@
+// paramorph_native: thin pybind11 bindings over the C++ core (numpy in, numpy out).
+#include "python/bindings.h"
+
+PYBIND11_MODULE(paramorph_native, m) {
+  m.doc() = "paramorph native core: mesh validation, OpenCL devices, spherical parameterization";
+  m.attr("__version__") = "0.1.0";
+  paramorph::python::bind_errors(m);
+  paramorph::python::bind_mesh(m);
+  paramorph::python::bind_compute(m);
+  paramorph::python::bind_sphere(m);
+}
