@@ -1,6 +1,7 @@
 # Writes OUTPUT: a C++ file that defines paramorph::compute::embedded_kernel_sources(),
 # mapping each kernels/<name>.cl file name to its text, so an installed module
 # needs no source tree.
+string(REPLACE "|" ";" SOURCES "${SOURCES}")
 set(body "")
 foreach(src IN LISTS SOURCES)
   get_filename_component(name ${src} NAME)

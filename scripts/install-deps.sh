@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   python3-dev python3-numpy python3-pytest pybind11-dev
-  libeigen3-dev
+  libeigen3-dev libmetis-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd
   coinor-libipopt-dev libosd-dev libqhull-dev libcgal-dev
   libgtest-dev

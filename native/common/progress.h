@@ -6,6 +6,7 @@
 // solver unwinds without leaving partial results behind.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -43,6 +44,26 @@ class Progress {
   double min_interval_ = 0.2;
   bool started_ = false;
   std::chrono::steady_clock::time_point last_{};
+};
+
+/// A slice [lo, hi] of a parent Progress: nested stages report their own
+/// 0..1 and the parent sees one monotone fraction.
+class ProgressWindow {
+ public:
+  ProgressWindow(Progress* parent = nullptr, double lo = 0.0, double hi = 1.0)
+      : parent_(parent), lo_(lo), hi_(hi) {}
+  /// Monotone: a fraction below one already reported is raised to it.
+  void report(double fraction, const std::string& stage) {
+    if (!parent_) return;
+    fraction = std::min(1.0, std::max(fraction, last_));
+    last_ = fraction;
+    parent_->report(lo_ + (hi_ - lo_) * fraction, stage);
+  }
+
+ private:
+  Progress* parent_;
+  double lo_, hi_;
+  double last_ = 0.0;
 };
 
 }  // namespace paramorph

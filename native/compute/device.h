@@ -64,9 +64,17 @@ class Device {
   std::map<std::string, cl::Program> programs_;
 };
 
+/// Index into `devices` of the one to use: `filter` (PARAMORPH_OPENCL_DEVICE)
+/// as an integer counts usable devices only, otherwise it is a
+/// case-insensitive substring of "platform device"; without a filter a usable
+/// GPU is preferred, then any usable device. -1 when nothing matches.
+long select_device(const std::vector<DeviceInfo>& devices, const char* filter);
+
 /// The device selected by the environment (see above), created once and
-/// shared; nullptr when no usable device exists or OpenCL is disabled.
+/// shared; nullptr when no usable device exists or OpenCL is disabled
+/// (default_device_error() then says why).
 std::shared_ptr<Device> default_device();
+std::string default_device_error();
 
 /// Source text of kernels/<file>: from PARAMORPH_KERNEL_DIR when set and the
 /// file exists there, else the embedded copy. Throws ComputeError if unknown.

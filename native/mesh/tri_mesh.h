@@ -54,10 +54,11 @@ class TriMesh {
   const VectorXi& vertex_component() const;
   Index num_components() const;
 
+  struct Cache;  ///< lazily built topology (implementation detail, tri_mesh.cpp)
+
  private:
   MatrixX3d V_;
   MatrixX3i F_;
-  struct Cache;
   std::shared_ptr<Cache> cache_;
 };
 

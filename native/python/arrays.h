@@ -22,7 +22,7 @@ inline MatrixX3d to_vertices(const py::handle& obj, const char* name = "V") {
   PM_REQUIRE(kind == 'f' || kind == 'i' || kind == 'u', InvalidInputError, name,
              " must be float64 or float32, got dtype ", std::string(py::str(arr.dtype())));
   PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 3, InvalidInputError, name,
-             " must have shape (n, 3), got ", std::string(py::str(py::cast(arr.attr("shape")))));
+             " must have shape (n, 3), got ", std::string(py::str(arr.attr("shape"))));
   auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
   MatrixX3d out(arr.shape(0), 3);
   if (arr.shape(0) > 0) std::copy(data.data(), data.data() + data.size(), out.data());
@@ -37,7 +37,7 @@ inline MatrixX3i to_faces(const py::handle& obj, const char* name = "F") {
   PM_REQUIRE(kind == 'i' || kind == 'u', InvalidInputError, name,
              " must be int32 or int64, got dtype ", std::string(py::str(arr.dtype())));
   PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 3, InvalidInputError, name,
-             " must have shape (m, 3), got ", std::string(py::str(py::cast(arr.attr("shape")))));
+             " must have shape (m, 3), got ", std::string(py::str(arr.attr("shape"))));
   auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
   MatrixX3i out(arr.shape(0), 3);
   const std::int64_t* p = data.data();

@@ -1,5 +1,98 @@
-// TEMPORARY empty binding so the module links while bind_sphere is written.
+// sphere_map(): fold-free spherical parameterization (param/spherical/sphere_map.h).
+#include <pybind11/stl.h>
+
+#include "param/spherical/sphere_map.h"
+#include "python/arrays.h"
 #include "python/bindings.h"
+#include "python/progress.h"
+
 namespace paramorph::python {
-void bind_sphere(pybind11::module_&) {}
+
+using spherical::SphereMapOptions;
+using spherical::SphereMapResult;
+
+void bind_sphere(py::module_& m) {
+  py::class_<SphereMapResult>(m, "SphereMap",
+                              "Result of sphere_map(): unit-sphere positions and solver statistics.")
+      .def_property_readonly("positions", [](const SphereMapResult& r) { return to_numpy(r.positions); },
+                             "(n, 3) float64 unit vectors, in the input's vertex order")
+      .def_readonly("flipped", &SphereMapResult::flipped, "faces folded on the sphere (0 on success)")
+      .def_readonly("residual", &SphereMapResult::residual,
+                    "relative residual of the last saddle-point solve")
+      .def_readonly("outer_iterations", &SphereMapResult::outer_iterations)
+      .def_readonly("inner_iterations", &SphereMapResult::inner_iterations,
+                    "inner iterations summed over the outer iterations")
+      .def_readonly("inner_per_outer", &SphereMapResult::inner_per_outer)
+      .def_property_readonly("energy_history",
+                             [](const SphereMapResult& r) { return to_numpy(r.energy_history); },
+                             "spring energy of the start and after each outer iteration")
+      .def_readonly("energy_increased", &SphereMapResult::energy_increased)
+      .def_readonly("stop_reason", &SphereMapResult::stop_reason)
+      .def_readonly("relaxation_sweeps", &SphereMapResult::relaxation_sweeps)
+      .def_property_readonly("area_stretch",
+                             [](const SphereMapResult& r) { return to_numpy(r.area_stretch); },
+                             "(n,) area stretch factor per vertex (thesis Def. 3.1)")
+      .def_readonly("weights", &SphereMapResult::weights)
+      .def_readonly("solver", &SphereMapResult::solver)
+      .def_readonly("backend", &SphereMapResult::backend)
+      .def_readonly("device", &SphereMapResult::device)
+      .def_readonly("backend_note", &SphereMapResult::backend_note)
+      .def_readonly("seconds", &SphereMapResult::seconds)
+      .def_property_readonly("timings", [](const SphereMapResult& r) {
+        py::dict d;
+        for (const auto& [stage, seconds] : r.timings) d[py::str(stage)] = seconds;
+        return d;
+      })
+      .def("__repr__", [](const SphereMapResult& r) {
+        return "<SphereMap n=" + std::to_string(r.positions.rows()) +
+               " flipped=" + std::to_string(r.flipped) + " residual=" + std::to_string(r.residual) +
+               " outer=" + std::to_string(r.outer_iterations) +
+               " inner=" + std::to_string(r.inner_iterations) + " backend=" + r.backend + ">";
+      });
+
+  m.def(
+      "sphere_map",
+      [](const py::object& V, const py::object& F, const std::string& weights, double tol,
+         int max_iterations, const std::string& solver, const std::string& backend,
+         py::object progress, int max_outer_iterations, double outer_tol, const std::string& init,
+         int check_every, double omega, bool reorder) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        SphereMapOptions o;
+        o.weights = spherical::parse_weights(weights);
+        o.solver = spherical::parse_inner_solver(solver);
+        o.backend = compute::parse_backend(backend);
+        o.init = spherical::parse_initial_map(init);
+        o.tol = tol;
+        o.max_iterations = max_iterations;
+        o.max_outer_iterations = max_outer_iterations;
+        o.outer_tol = outer_tol;
+        o.check_every = check_every;
+        o.omega = omega;
+        o.reorder = reorder;
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] { return spherical::sphere_map(v, f, o, bridge.get()); });
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("weights") = "conformal",
+      py::arg("tol") = 1e-7, py::arg("max_iterations") = 200000, py::arg("solver") = "auto",
+      py::arg("backend") = "auto", py::arg("progress") = py::none(),
+      py::arg("max_outer_iterations") = 4, py::arg("outer_tol") = 1e-3, py::arg("init") = "auto",
+      py::arg("check_every") = 50, py::arg("omega") = 0.9, py::arg("reorder") = true,
+      R"doc(Fold-free map of a closed genus-0 triangle mesh onto the unit sphere (thesis ch. 3).
+
+V: (n, 3) float64 or float32 vertex positions. F: (m, 3) int32 or int64 triangles,
+counter-clockwise seen from outside.
+weights: "conformal" (cotangent, angles clamped to [5°, 85°]) or "barycentric".
+tol: relative residual each tangent-plane saddle-point solve must reach.
+max_iterations: inner iterations allowed per saddle-point solve.
+solver: "auto" (= "pcg"), "pcg", "cholesky" or "jacobi" (thesis Algorithm 3).
+backend: "auto" (OpenCL when a device builds the kernels, else C++), "opencl", "cpu".
+progress: callable(fraction, stage) -> bool; returning False raises Cancelled.
+max_outer_iterations, outer_tol: outer loop limits (stops when the relative energy
+decrease drops below outer_tol). init: "auto"/"stereographic" or "relaxation".
+check_every, omega: Jacobi residual-test period and damping.
+Raises NotClosedError, NotGenusZeroError, DisconnectedError, NonManifoldError,
+DegenerateFaceError, InvalidInputError (all MeshError), Cancelled, ComputeError.)doc");
+}
+
 }  // namespace paramorph::python

@@ -1,0 +1,93 @@
+// C++ backend of SphereKernels: OpenMP loops with the same per-vertex
+// arithmetic as kernels/sphere.cl.
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "param/spherical/sphere_kernels.h"
+#include "param/spherical/sphere_quality.h"
+
+namespace paramorph::spherical {
+
+namespace {
+
+class CpuSphereKernels final : public SphereKernels {
+ public:
+  CpuSphereKernels(const SpringGraph& graph, const MatrixX3i& F) : g_(graph), F_(F) {}
+
+  std::string backend() const override { return "cpu"; }
+  std::string device() const override { return "C++ (OpenMP)"; }
+
+  void begin_solve(const MatrixX3d& x) override {
+    x_ = x;
+    u_ = x;
+    tmp_.resize(x.rows(), 3);
+  }
+
+  void jacobi(int sweeps, double omega) override {
+    const Index n = g_.num_vertices();
+    for (int s = 0; s < sweeps; ++s) {
+#pragma omp parallel for schedule(static)
+      for (Index i = 0; i < n; ++i) {
+        Eigen::Vector3d avg = Eigen::Vector3d::Zero();
+        for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
+          avg += g_.weights[k] * u_.row(g_.neighbors[k]).transpose();
+        const Eigen::Vector3d xi = x_.row(i).transpose();
+        const Eigen::Vector3d t =
+            (1.0 - omega) * u_.row(i).transpose() + (omega / g_.degree[i]) * avg;
+        const double lambda = xi.dot(t) - 1.0;
+        tmp_.row(i) = (t - lambda * xi).transpose();
+      }
+      u_.swap(tmp_);
+    }
+  }
+
+  double residual_squared() override {
+    const Index n = g_.num_vertices();
+    double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      Eigen::Vector3d avg = Eigen::Vector3d::Zero();
+      for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
+        avg += g_.weights[k] * u_.row(g_.neighbors[k]).transpose();
+      const Eigen::Vector3d xi = x_.row(i).transpose();
+      Eigen::Vector3d r = u_.row(i).transpose() - avg / g_.degree[i];
+      r -= xi.dot(r) * xi;
+      sum += r.squaredNorm();
+    }
+    return sum;
+  }
+
+  void read_solution(MatrixX3d& u) override { u = u_; }
+  void write_solution(const MatrixX3d& u) override { u_ = u; }
+
+  void apply_projected_laplacian(const MatrixX3d& t, MatrixX3d& out) override {
+    const Index n = g_.num_vertices();
+    out.resize(n, 3);
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      Eigen::Vector3d s = Eigen::Vector3d::Zero();
+      for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
+        s += g_.weights[k] * t.row(g_.neighbors[k]).transpose();
+      const Eigen::Vector3d xi = x_.row(i).transpose();
+      Eigen::Vector3d r = g_.degree[i] * t.row(i).transpose() - s;
+      r -= xi.dot(r) * xi;
+      out.row(i) = r.transpose();
+    }
+  }
+
+  Index count_flipped(const MatrixX3d& X) override { return Index(flipped_faces(X, F_).size()); }
+  double energy(const MatrixX3d& X) override { return g_.energy(X); }
+
+ private:
+  const SpringGraph& g_;
+  const MatrixX3i& F_;
+  MatrixX3d x_, u_, tmp_;
+};
+
+}  // namespace
+
+std::unique_ptr<SphereKernels> make_cpu_kernels(const SpringGraph& graph, const MatrixX3i& F) {
+  return std::make_unique<CpuSphereKernels>(graph, F);
+}
+
+}  // namespace paramorph::spherical

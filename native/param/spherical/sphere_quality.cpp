@@ -1,0 +1,89 @@
+#include "param/spherical/sphere_quality.h"
+
+#include <Eigen/SVD>
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace paramorph::spherical {
+
+double sphere_orientation(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          const Eigen::Vector3d& c) {
+  return (b - a).cross(c - a).dot(a + b + c);
+}
+
+std::vector<Index> flipped_faces(const MatrixX3d& X, const MatrixX3i& F) {
+  const Index m = Index(F.rows());
+  std::vector<char> bad(m, 0);
+#pragma omp parallel for schedule(static)
+  for (Index f = 0; f < m; ++f) {
+    bad[f] = sphere_orientation(X.row(F(f, 0)), X.row(F(f, 1)), X.row(F(f, 2))) <= 0.0;
+  }
+  std::vector<Index> out;
+  for (Index f = 0; f < m; ++f)
+    if (bad[f]) out.push_back(f);
+  return out;
+}
+
+VectorXd face_areas(const MatrixX3d& V, const MatrixX3i& F) {
+  const Index m = Index(F.rows());
+  VectorXd A(m);
+#pragma omp parallel for schedule(static)
+  for (Index f = 0; f < m; ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    A[f] = 0.5 * (b - a).cross(c - a).norm();
+  }
+  return A;
+}
+
+VectorXd area_stretch(const TriMesh& mesh, const MatrixX3d& X) {
+  const VectorXd surface = face_areas(mesh.V(), mesh.F());
+  const VectorXd mapped = face_areas(X, mesh.F());
+  const double surface_total = surface.sum();
+  const double mapped_total = mapped.sum();
+  const Index m = mesh.num_faces();
+  VectorXd face_stretch(m);
+  for (Index f = 0; f < m; ++f) {
+    const double share = mapped[f] / mapped_total;
+    face_stretch[f] = share > 0 ? (surface[f] / surface_total) / share
+                                : std::numeric_limits<double>::infinity();
+  }
+  const Csr& corners = mesh.vertex_corners();
+  VectorXd out(mesh.num_vertices());
+#pragma omp parallel for schedule(static)
+  for (Index v = 0; v < mesh.num_vertices(); ++v) {
+    double sum = 0.0;
+    for (Index k = corners.begin(v); k < corners.end(v); ++k) sum += face_stretch[corners.items[k] / 3];
+    out[v] = corners.size(v) > 0 ? sum / corners.size(v) : 0.0;
+  }
+  return out;
+}
+
+double quasi_conformal_distortion(const MatrixX3d& V, const MatrixX3d& X, const MatrixX3i& F) {
+  // Ratio of singular values of the linear map between each 3D triangle and
+  // its chord triangle, weighted by 3D area.
+  double num = 0.0, den = 0.0;
+  for (Index f = 0; f < Index(F.rows()); ++f) {
+    auto frame = [&](const MatrixX3d& P, Eigen::Matrix2d& E) {
+      const Eigen::Vector3d a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
+      const Eigen::Vector3d e1 = b - a, e2 = c - a;
+      const double l1 = e1.norm();
+      const Eigen::Vector3d x = e1 / l1;
+      const Eigen::Vector3d n = e1.cross(e2);
+      const Eigen::Vector3d y = n.cross(e1).normalized();
+      E << l1, e2.dot(x), 0.0, e2.dot(y);
+      return 0.5 * n.norm();
+    };
+    Eigen::Matrix2d S, T;
+    const double area = frame(V, S);
+    frame(X, T);
+    if (!(area > 0) || std::abs(S.determinant()) == 0) continue;
+    const Eigen::Matrix2d J = T * S.inverse();
+    Eigen::JacobiSVD<Eigen::Matrix2d> svd(J);
+    const double s0 = svd.singularValues()[0], s1 = svd.singularValues()[1];
+    num += area * (s1 > 0 ? s0 / s1 : 1e12);
+    den += area;
+  }
+  return den > 0 ? num / den : 1.0;
+}
+
+}  // namespace paramorph::spherical

@@ -1,0 +1,115 @@
+#include "param/spherical/spring_graph.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "common/errors.h"
+
+namespace paramorph::spherical {
+
+Weights parse_weights(const std::string& name) {
+  if (name == "conformal") return Weights::Conformal;
+  if (name == "barycentric") return Weights::Barycentric;
+  throw InvalidInputError("weights must be \"conformal\" or \"barycentric\", got \"" + name + "\"");
+}
+
+std::string to_string(Weights weights) {
+  return weights == Weights::Conformal ? "conformal" : "barycentric";
+}
+
+VectorXd edge_weights(const TriMesh& mesh, Weights kind, double min_angle_degrees,
+                      double max_angle_degrees) {
+  const Index num_edges = Index(mesh.edges().rows());
+  if (kind == Weights::Barycentric) return VectorXd::Ones(num_edges);
+
+  const double lo = min_angle_degrees * M_PI / 180.0;
+  const double hi = max_angle_degrees * M_PI / 180.0;
+  const MatrixX3d& V = mesh.V();
+  const MatrixX3i& F = mesh.F();
+  const MatrixX3i& FE = mesh.face_edges();
+  VectorXd w = VectorXd::Zero(num_edges);
+  // Serial scatter: each edge receives from two faces; the cost is negligible
+  // next to the solve and keeps the sum order deterministic.
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = V.row(F(f, k));
+      const Eigen::Vector3d b = V.row(F(f, (k + 1) % 3));
+      const Eigen::Vector3d c = V.row(F(f, (k + 2) % 3));
+      const Eigen::Vector3d e1 = b - a, e2 = c - a;
+      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      const double clamped = std::min(std::max(angle, lo), hi);
+      w[FE(f, k)] += 0.5 / std::tan(clamped);
+    }
+  }
+  // An edge with one face (never in a closed mesh) would get half a weight;
+  // the solver only accepts closed meshes, so no correction is needed.
+  return w;
+}
+
+SpringGraph build_spring_graph(const TriMesh& mesh, const VectorXd& edge_weights) {
+  const Csr& nbr = mesh.vertex_neighbors();
+  const Csr& nbr_edges = mesh.vertex_neighbor_edges();
+  SpringGraph g;
+  g.offsets = nbr.offsets;
+  g.neighbors = nbr.items;
+  g.weights.resize(nbr.items.size());
+  g.degree = VectorXd::Zero(mesh.num_vertices());
+  for (Index i = 0; i < mesh.num_vertices(); ++i) {
+    double d = 0.0;
+    for (Index k = nbr.begin(i); k < nbr.end(i); ++k) {
+      g.weights[k] = edge_weights[nbr_edges.items[k]];
+      d += g.weights[k];
+    }
+    g.degree[i] = d;
+  }
+  return g;
+}
+
+void SpringGraph::apply(const MatrixX3d& u, MatrixX3d& out) const {
+  const Index n = num_vertices();
+  out.resize(n, 3);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    double sx = 0, sy = 0, sz = 0;
+    for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const Index j = neighbors[k];
+      const double w = weights[k];
+      sx += w * u(j, 0);
+      sy += w * u(j, 1);
+      sz += w * u(j, 2);
+    }
+    const double d = degree[i];
+    out(i, 0) = d * u(i, 0) - sx;
+    out(i, 1) = d * u(i, 1) - sy;
+    out(i, 2) = d * u(i, 2) - sz;
+  }
+}
+
+double SpringGraph::energy(const MatrixX3d& u) const {
+  const Index n = num_vertices();
+  double e = 0.0;
+#pragma omp parallel for reduction(+ : e) schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const Index j = neighbors[k];
+      if (j > i) e += weights[k] * (u.row(i) - u.row(j)).squaredNorm();
+    }
+  }
+  return 0.5 * e;
+}
+
+Eigen::SparseMatrix<double> SpringGraph::matrix(double diagonal_shift) const {
+  const Index n = num_vertices();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(neighbors.size() + n);
+  for (Index i = 0; i < n; ++i) {
+    triplets.emplace_back(i, i, degree[i] * (1.0 + diagonal_shift));
+    for (Index k = offsets[i]; k < offsets[i + 1]; ++k)
+      triplets.emplace_back(i, neighbors[k], -weights[k]);
+  }
+  Eigen::SparseMatrix<double> L(n, n);
+  L.setFromTriplets(triplets.begin(), triplets.end());
+  return L;
+}
+
+}  // namespace paramorph::spherical

@@ -1,0 +1,60 @@
+// Small closed meshes built in the C++ tests.
+#pragma once
+
+#include <map>
+#include <utility>
+
+#include "mesh/types.h"
+
+namespace paramorph::test_meshes {
+
+/// Icosahedron subdivided `levels` times, vertices on the unit sphere,
+/// faces counter-clockwise seen from outside.
+inline std::pair<MatrixX3d, MatrixX3i> icosphere(int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : v) p.normalize();
+  std::vector<Eigen::Vector3i> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                    {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                    {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                    {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      v.push_back((v[a] + v[b]).normalized());
+      return midpoint[key] = int(v.size()) - 1;
+    };
+    std::vector<Eigen::Vector3i> next;
+    for (const auto& tri : f) {
+      const int a = mid(tri[0], tri[1]), b = mid(tri[1], tri[2]), c = mid(tri[2], tri[0]);
+      next.push_back({tri[0], a, c});
+      next.push_back({tri[1], b, a});
+      next.push_back({tri[2], c, b});
+      next.push_back({a, b, c});
+    }
+    f = std::move(next);
+  }
+  MatrixX3d V(v.size(), 3);
+  MatrixX3i F(f.size(), 3);
+  for (std::size_t i = 0; i < v.size(); ++i) V.row(i) = v[i].transpose();
+  for (std::size_t i = 0; i < f.size(); ++i) F.row(i) = f[i].transpose().cast<Index>();
+  return {V, F};
+}
+
+/// The icosphere pushed into a lumpy, non-convex blob (deterministic).
+inline std::pair<MatrixX3d, MatrixX3i> lumpy_blob(int levels) {
+  auto [V, F] = icosphere(levels);
+  for (Index i = 0; i < V.rows(); ++i) {
+    const Eigen::Vector3d p = V.row(i).transpose();
+    const double r = 1.0 + 0.35 * std::sin(3.0 * p.x()) * std::cos(2.0 * p.y()) + 0.5 * p.z() * p.z();
+    V.row(i) = (r * p.cwiseProduct(Eigen::Vector3d(1.0, 1.6, 0.8))).transpose();
+  }
+  return {V, F};
+}
+
+}  // namespace paramorph::test_meshes
