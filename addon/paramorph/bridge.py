@@ -1,0 +1,111 @@
+"""Blender <-> numpy bridge: mesh arrays out, UV layers and shape keys in.
+foreach_get/foreach_set with matching dtypes; no Python loops over elements."""
+import numpy as np
+
+from .native import load_error, native
+
+
+def require_native():
+    if native is None:
+        raise RuntimeError(load_error)
+    return native
+
+
+def mesh_arrays(mesh):
+    """V float64 (n,3), F int32 (m,3) loop triangles, tri_poly int32 (m,), tri_loops int32 (m,3)."""
+    n = len(mesh.vertices)
+    co = np.empty(3 * n, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    mesh.calc_loop_triangles()
+    m = len(mesh.loop_triangles)
+    F = np.empty(3 * m, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", F)
+    tri_poly = np.empty(m, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
+    tri_loops = np.empty(3 * m, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", tri_loops)
+    return co.reshape(n, 3).astype(np.float64), F.reshape(m, 3), tri_poly, tri_loops.reshape(m, 3)
+
+
+def sphere_uv(mesh, positions):
+    """Per-loop (u, v) from spherical coordinates, with the seam handled: a
+    polygon whose u values span more than half the texture gets its small u
+    shifted by +1, and loops at a pole take their polygon's mean u."""
+    num_loops = len(mesh.loops)
+    loop_vertex = np.empty(num_loops, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    P = len(mesh.polygons)
+    loop_start = np.empty(P, dtype=np.int32)
+    loop_total = np.empty(P, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", loop_start)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    poly_of_loop = np.empty(num_loops, dtype=np.int64)
+    poly_of_loop[np.repeat(loop_start, loop_total) + _ranks(loop_total)] = np.repeat(
+        np.arange(P), loop_total)
+
+    X = positions[loop_vertex]
+    u = 0.5 + np.arctan2(X[:, 1], X[:, 0]) / (2.0 * np.pi)
+    v = 0.5 + np.arcsin(np.clip(X[:, 2], -1.0, 1.0)) / np.pi
+    pole = np.abs(X[:, 2]) > 1.0 - 1e-9
+
+    def per_poly(values, reduce, fill):
+        out = np.full(P, fill)
+        reduce.at(out, poly_of_loop, values)
+        return out
+
+    free = ~pole
+    umax = per_poly(np.where(free, u, -np.inf), np.maximum, -np.inf)
+    umin = per_poly(np.where(free, u, np.inf), np.minimum, np.inf)
+    wraps = (umax - umin) > 0.5
+    u = np.where(wraps[poly_of_loop] & (u < 0.5), u + 1.0, u)
+    if pole.any():
+        total = np.bincount(poly_of_loop, weights=np.where(free, u, 0.0), minlength=P)
+        count = np.bincount(poly_of_loop, weights=free.astype(np.float64), minlength=P)
+        mean = np.divide(total, count, out=np.full(P, 0.5), where=count > 0)
+        u = np.where(pole, mean[poly_of_loop], u)
+    return np.stack([u, v], axis=1)
+
+
+def _ranks(loop_total):
+    """0, 1, ..., t-1 for each polygon, concatenated."""
+    starts = np.repeat(np.cumsum(loop_total) - loop_total, loop_total)
+    return np.arange(int(loop_total.sum())) - starts
+
+
+def write_uv_layer(mesh, uv, name):
+    """Creates (or overwrites) the UV layer `name` from per-loop (u, v)."""
+    layer = mesh.uv_layers.get(name) or mesh.uv_layers.new(name=name)
+    flat = np.ascontiguousarray(uv, dtype=np.float32).ravel()
+    if hasattr(layer, "uv"):  # 3.5+
+        layer.uv.foreach_set("vector", flat)
+    else:
+        layer.data.foreach_set("uv", flat)
+    mesh.update()
+    return layer
+
+
+def add_shape_key(obj, coordinates, name, value=0.0):
+    """Adds (or overwrites) shape key `name` with (n,3) coordinates; a Basis
+    key is created first when the object has none."""
+    if obj.data.shape_keys is None:
+        obj.shape_key_add(name="Basis", from_mix=False)
+    key = obj.data.shape_keys.key_blocks.get(name) or obj.shape_key_add(name=name, from_mix=False)
+    key.data.foreach_set("co", np.ascontiguousarray(coordinates, dtype=np.float32).ravel())
+    key.value = value
+    obj.data.update()
+    return key
+
+
+def sphere_map_object(obj, uv_name="Sphere", key_name="Sphere", **options):
+    """Sphere-maps a mesh object: UV layer `uv_name` and shape key `key_name`
+    (the sphere scaled to the mesh's bounding sphere). The native call runs
+    first, so a failure leaves the object untouched. Returns the native result."""
+    pm = require_native()
+    mesh = obj.data
+    V, F, _, _ = mesh_arrays(mesh)
+    result = pm.sphere_map(V, F, **options)
+    write_uv_layer(mesh, sphere_uv(mesh, result.positions), uv_name)
+    center = 0.5 * (V.min(axis=0) + V.max(axis=0))
+    radius = float(np.linalg.norm(V - center, axis=1).max())
+    add_shape_key(obj, center + radius * result.positions, key_name)
+    return result

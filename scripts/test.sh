@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test: C++ (CTest), the
+# module (pytest) and the Blender-side tests (pytest inside blender -b).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
+scripts/install-deps.sh
+scripts/build.sh
+
+echo "== C++ unit tests (ctest)"
+ctest --test-dir "$PARAMORPH_BUILD_DIR" --output-on-failure -j2
+
+echo "== native module tests (pytest)"
+/usr/bin/python3 -m pytest tests/native -q -p no:cacheprovider
+
+echo "== Blender tests (pytest inside blender -b)"
+blender -b --factory-startup --python-exit-code 1 \
+  --python tests/blender/run_pytest.py -- tests/blender -q
