@@ -2,6 +2,7 @@
 #include <pybind11/pybind11.h>
 
 #include "common/errors.h"
+#include "compute/opencl.h"
 #include "python/bindings.h"
 
 namespace paramorph::python {
@@ -45,6 +46,9 @@ void bind_errors(py::module_& m) {
       cancelled(e.what());
     } catch (const ComputeError& e) {
       compute(e.what());
+    } catch (const cl::Error& e) {  // a device failing mid-run (out of resources, lost)
+      compute((std::string("OpenCL error in ") + e.what() + " (code " + std::to_string(e.err()) +
+               "); run with backend=\"cpu\"").c_str());
     }
   });
 }

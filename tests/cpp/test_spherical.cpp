@@ -143,3 +143,21 @@ TEST(SphereMap, FoldFreeWithAndWithoutReordering) {
     EXPECT_LE(r.residual, o.tol);
   }
 }
+
+TEST(SphereMap, OpenClAndCpuBackendsAgree) {
+  if (!compute::default_device()) GTEST_SKIP() << compute::default_device_error();
+  auto [V, F] = test_meshes::lumpy_blob(4);
+  for (InnerSolver solver : {InnerSolver::Pcg, InnerSolver::Jacobi}) {
+    SphereMapOptions o;
+    o.solver = solver;
+    o.backend = compute::Backend::Cpu;
+    const auto cpu = sphere_map(V, F, o);
+    o.backend = compute::Backend::OpenCL;
+    const auto ocl = sphere_map(V, F, o);
+    EXPECT_EQ(ocl.backend, "opencl");
+    EXPECT_EQ(ocl.flipped, 0);
+    EXPECT_LE(ocl.residual, o.tol);
+    const VectorXd cosines = (cpu.positions.array() * ocl.positions.array()).rowwise().sum();
+    EXPECT_GT(cosines.minCoeff(), std::cos(1e-5)) << to_string(solver) << " on " << ocl.device;
+  }
+}

@@ -23,17 +23,22 @@ class CpuSphereKernels final : public SphereKernels {
     tmp_.resize(x.rows(), 3);
   }
 
+  /// Weighted sum of the 1-ring of vertex i (ring_sum in kernels/sphere.cl).
+  Eigen::Vector3d ring_sum(Index i, const MatrixX3d& u) const {
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
+      s += g_.weights[k] * u.row(g_.neighbors[k]).transpose();
+    return s;
+  }
+
   void jacobi(int sweeps, double omega) override {
     const Index n = g_.num_vertices();
     for (int s = 0; s < sweeps; ++s) {
 #pragma omp parallel for schedule(static)
       for (Index i = 0; i < n; ++i) {
-        Eigen::Vector3d avg = Eigen::Vector3d::Zero();
-        for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
-          avg += g_.weights[k] * u_.row(g_.neighbors[k]).transpose();
         const Eigen::Vector3d xi = x_.row(i).transpose();
         const Eigen::Vector3d t =
-            (1.0 - omega) * u_.row(i).transpose() + (omega / g_.degree[i]) * avg;
+            (1.0 - omega) * u_.row(i).transpose() + (omega / g_.degree[i]) * ring_sum(i, u_);
         const double lambda = xi.dot(t) - 1.0;
         tmp_.row(i) = (t - lambda * xi).transpose();
       }
@@ -46,11 +51,8 @@ class CpuSphereKernels final : public SphereKernels {
     double sum = 0.0;
 #pragma omp parallel for reduction(+ : sum) schedule(static)
     for (Index i = 0; i < n; ++i) {
-      Eigen::Vector3d avg = Eigen::Vector3d::Zero();
-      for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
-        avg += g_.weights[k] * u_.row(g_.neighbors[k]).transpose();
       const Eigen::Vector3d xi = x_.row(i).transpose();
-      Eigen::Vector3d r = u_.row(i).transpose() - avg / g_.degree[i];
+      Eigen::Vector3d r = u_.row(i).transpose() - ring_sum(i, u_) / g_.degree[i];
       r -= xi.dot(r) * xi;
       sum += r.squaredNorm();
     }
@@ -65,11 +67,8 @@ class CpuSphereKernels final : public SphereKernels {
     out.resize(n, 3);
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      Eigen::Vector3d s = Eigen::Vector3d::Zero();
-      for (Index k = g_.offsets[i]; k < g_.offsets[i + 1]; ++k)
-        s += g_.weights[k] * t.row(g_.neighbors[k]).transpose();
       const Eigen::Vector3d xi = x_.row(i).transpose();
-      Eigen::Vector3d r = g_.degree[i] * t.row(i).transpose() - s;
+      Eigen::Vector3d r = g_.degree[i] * t.row(i).transpose() - ring_sum(i, t);
       r -= xi.dot(r) * xi;
       out.row(i) = r.transpose();
     }
