@@ -10,10 +10,34 @@ inner iterations of PCG and of Algorithm 3 (Jacobi) to the same residual.
 """
 import argparse
 
+import numpy as np
+
 from common import MODELS, emit, import_native, load_obj, median_run
 
 pm = import_native()
 import meshes  # noqa: E402  (tests/native, put on sys.path by import_native)
+
+
+def quasi_conformal(V, X, F):
+    """Area-weighted ratio of the singular values of each triangle's linear map
+    onto its chord triangle on the sphere (1 = conformal)."""
+    def frames(P):
+        a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
+        e1, e2 = b - a, c - a
+        n = np.cross(e1, e2)
+        x = e1 / np.linalg.norm(e1, axis=1, keepdims=True)
+        y = np.cross(n, e1)
+        y /= np.linalg.norm(y, axis=1, keepdims=True)
+        E = np.zeros((len(F), 2, 2))
+        E[:, 0, 0] = np.linalg.norm(e1, axis=1)
+        E[:, 0, 1] = np.einsum("ij,ij->i", e2, x)
+        E[:, 1, 1] = np.einsum("ij,ij->i", e2, y)
+        return E, 0.5 * np.linalg.norm(n, axis=1)
+
+    S, area = frames(V)
+    T, _ = frames(X)
+    s = np.linalg.svd(T @ np.linalg.inv(S), compute_uv=False)
+    return float(np.sum(area * s[:, 0] / s[:, 1]) / area.sum())
 
 
 def workloads(sizes):
@@ -51,6 +75,7 @@ def main():
                               inner_iterations=r.inner_iterations,
                               inner_per_outer=list(r.inner_per_outer), residual=r.residual,
                               flipped=int(r.flipped), stop=r.stop_reason,
+                              quasi_conformal=round(quasi_conformal(V, r.positions, F), 3),
                               timings={k: round(v, 4) for k, v in r.timings.items()}))
 
     if not args.no_jacobi:

@@ -1,6 +1,5 @@
 #include "param/spherical/sphere_quality.h"
 
-#include <Eigen/SVD>
 #include <Eigen/Dense>
 #include <cmath>
 
@@ -56,34 +55,6 @@ VectorXd area_stretch(const TriMesh& mesh, const MatrixX3d& X) {
     out[v] = corners.size(v) > 0 ? sum / corners.size(v) : 0.0;
   }
   return out;
-}
-
-double quasi_conformal_distortion(const MatrixX3d& V, const MatrixX3d& X, const MatrixX3i& F) {
-  // Ratio of singular values of the linear map between each 3D triangle and
-  // its chord triangle, weighted by 3D area.
-  double num = 0.0, den = 0.0;
-  for (Index f = 0; f < Index(F.rows()); ++f) {
-    auto frame = [&](const MatrixX3d& P, Eigen::Matrix2d& E) {
-      const Eigen::Vector3d a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
-      const Eigen::Vector3d e1 = b - a, e2 = c - a;
-      const double l1 = e1.norm();
-      const Eigen::Vector3d x = e1 / l1;
-      const Eigen::Vector3d n = e1.cross(e2);
-      const Eigen::Vector3d y = n.cross(e1).normalized();
-      E << l1, e2.dot(x), 0.0, e2.dot(y);
-      return 0.5 * n.norm();
-    };
-    Eigen::Matrix2d S, T;
-    const double area = frame(V, S);
-    frame(X, T);
-    if (!(area > 0) || std::abs(S.determinant()) == 0) continue;
-    const Eigen::Matrix2d J = T * S.inverse();
-    Eigen::JacobiSVD<Eigen::Matrix2d> svd(J);
-    const double s0 = svd.singularValues()[0], s1 = svd.singularValues()[1];
-    num += area * (s1 > 0 ? s0 / s1 : 1e12);
-    den += area;
-  }
-  return den > 0 ? num / den : 1.0;
 }
 
 }  // namespace paramorph::spherical

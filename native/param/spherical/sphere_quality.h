@@ -26,7 +26,4 @@ VectorXd face_areas(const MatrixX3d& V, const MatrixX3i& F);
 /// the surface (extremities), ~1 where it keeps area.
 VectorXd area_stretch(const TriMesh& mesh, const MatrixX3d& X);
 
-/// Area-weighted quasi-conformal distortion of the chord triangles (1 = conformal).
-double quasi_conformal_distortion(const MatrixX3d& V, const MatrixX3d& X, const MatrixX3i& F);
-
 }  // namespace paramorph::spherical
