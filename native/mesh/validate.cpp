@@ -136,14 +136,18 @@ void require_closed_genus0(const MeshReport& r) {
     throw DegenerateFaceError(detail::concat(
         "mesh has ", r.degenerate_faces.size(), " degenerate (zero-area) faces: ",
         format_indices(r.degenerate_faces), "; merge or dissolve them first"));
-  if (r.components > 1 || !r.isolated_vertices.empty())
+  const Index surfaces = r.components - Index(r.isolated_vertices.size());
+  if (surfaces > 1)
     throw DisconnectedError(detail::concat(
-        "mesh has ", r.components, " connected components",
-        r.isolated_vertices.empty() ? "" : " (isolated vertices: " + format_indices(r.isolated_vertices) + ")",
-        "; one connected surface is required: separate the parts first"));
+        "mesh has ", surfaces, " connected components; one connected surface is required: "
+        "separate the parts first"));
   if (r.boundary_loops > 0)
     throw NotClosedError(detail::concat("mesh is not closed: it has ", r.boundary_loops,
                                         " boundary loops (holes); fill the holes first"));
+  if (!r.isolated_vertices.empty())
+    throw DisconnectedError(detail::concat(
+        "mesh has ", r.isolated_vertices.size(), " loose vertices that belong to no face (",
+        format_indices(r.isolated_vertices), "); delete them (Mesh > Clean Up > Delete Loose)"));
   if (!r.inconsistent_orientation_edges.empty())
     throw NonManifoldError(detail::concat(
         "mesh is not consistently oriented: ", r.inconsistent_orientation_edges.size(),

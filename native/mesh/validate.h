@@ -39,8 +39,8 @@ MeshReport validate(const TriMesh& mesh, double relative_area_tolerance = 1e-14)
 /// Throws the matching MeshError subclass unless the mesh is a closed,
 /// connected, manifold, consistently oriented genus-0 surface without
 /// degenerate faces or isolated vertices. Checks in this order: non-manifold,
-/// degenerate, disconnected (including isolated vertices), not closed (says how
-/// many boundary loops), orientation, not genus 0 (says the genus).
+/// degenerate, several surfaces, not closed (says how many boundary loops),
+/// loose vertices (DisconnectedError), orientation, not genus 0 (says the genus).
 void require_closed_genus0(const MeshReport& report);
 
 /// Short human-readable list "0, 5, 17 (and 3 more)" for error messages.

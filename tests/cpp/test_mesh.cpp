@@ -161,3 +161,12 @@ TEST(ValidateArrays, NonFiniteAndOutOfRange) {
   EXPECT_THROW(validate_arrays(V, G), InvalidInputError);
   EXPECT_NO_THROW(validate_arrays(V, F));
 }
+
+TEST(Validate, LooseVerticesAreNamedNotCountedAsSurfaces) {
+  const TriMesh mesh(points({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {5, 5, 5}}),
+                     faces({{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}));
+  const MeshReport r = validate(mesh);
+  EXPECT_EQ(r.isolated_vertices, (std::vector<Index>{4}));
+  EXPECT_FALSE(r.is_closed_genus0);
+  expect_rejected<DisconnectedError>(mesh, "1 loose vertices that belong to no face (4)");
+}

@@ -44,7 +44,9 @@ struct SphereMapOptions {
 struct SphereMapResult {
   MatrixX3d positions;               ///< #V by 3 unit vectors, input vertex order
   Index flipped = 0;                 ///< faces with orientation <= 0
-  double residual = 0.0;             ///< relative residual of the last saddle-point solve
+  /// Relative residual of the last accepted saddle-point solve; 1 when no
+  /// outer step was taken (the start is returned unsolved).
+  double residual = 1.0;
   int outer_iterations = 0;
   int inner_iterations = 0;          ///< summed over outer iterations
   std::vector<int> inner_per_outer;
