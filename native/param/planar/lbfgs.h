@@ -1,0 +1,49 @@
+// L-BFGS for barrier energies (thesis 2.3.1–2.3.2; DESIGN.md §4.1).
+//
+// Two-loop recursion with m pairs and H0 = γ I, γ = sᵀy / yᵀy. The line
+// search never evaluates past the first inversion: the caller supplies the
+// largest feasible step along a direction (for the isometric energy, the
+// smallest positive root of det(A(x + t d)) = 0 over faces), the full step is
+// taken when it is feasible and meets the strong Wolfe conditions, else the
+// minimiser is bracketed inside the feasible interval and refined by
+// safeguarded (Brent-style) interpolation.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "mesh/types.h"
+
+namespace paramorph::planar {
+
+struct LbfgsOptions {
+  int memory = 7;                 ///< stored (s, y) pairs, 5–10 in the thesis
+  int max_iterations = 1000;
+  double gradient_tol = 1e-8;     ///< stop when |g| <= gradient_tol * max(1, |g0|)
+  double energy_tol = 1e-12;      ///< stop when the relative decrease of one step is below
+  double wolfe_c1 = 1e-4;         ///< sufficient decrease
+  double wolfe_c2 = 0.9;          ///< curvature (strong Wolfe)
+  double feasible_fraction = 0.95;  ///< steps stay below this fraction of the first inversion
+  int max_line_search_evaluations = 30;
+};
+
+struct LbfgsResult {
+  int iterations = 0;
+  int energy_evaluations = 0;
+  int gradient_evaluations = 0;
+  std::vector<double> energy_history;  ///< the start and every accepted step
+  std::string stop_reason;             ///< "gradient", "energy", "max_iterations", "line_search"
+};
+
+/// energy(x, grad): value at x (+inf where infeasible); fills *grad when not null.
+using EnergyFunction = std::function<double(const VectorXd& x, VectorXd* grad)>;
+/// max_step(x, d): largest t with x + s d feasible for all s in [0, t) (+inf if unbounded).
+using StepBound = std::function<double(const VectorXd& x, const VectorXd& d)>;
+
+/// Minimises from a feasible x (finite energy), in place. Every iterate stays feasible.
+LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_step, VectorXd& x,
+                           const LbfgsOptions& options = {}, ProgressWindow progress = {});
+
+}  // namespace paramorph::planar

@@ -1,0 +1,139 @@
+// L-BFGS with the feasibility-bounded strong-Wolfe line search (param/planar/lbfgs).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "param/planar/isometric_energy.h"
+#include "param/planar/lbfgs.h"
+
+using namespace paramorph;
+using namespace paramorph::planar;
+
+namespace {
+const StepBound kUnbounded = [](const VectorXd&, const VectorXd&) {
+  return std::numeric_limits<double>::infinity();
+};
+
+bool non_increasing(const std::vector<double>& h) {
+  for (std::size_t k = 1; k < h.size(); ++k)
+    if (h[k] > h[k - 1]) return false;
+  return true;
+}
+}  // namespace
+
+TEST(Lbfgs, MinimisesRosenbrock) {
+  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
+    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
+    if (g) {
+      g->resize(2);
+      *g << -2 * a - 400 * x[0] * b, 200 * b;
+    }
+    return a * a + 100 * b * b;
+  };
+  VectorXd x(2);
+  x << -1.2, 1.0;
+  LbfgsOptions o;
+  o.gradient_tol = 1e-10;
+  const LbfgsResult r = minimize_lbfgs(rosenbrock, kUnbounded, x, o);
+  EXPECT_EQ(r.stop_reason, "gradient");
+  EXPECT_NEAR(x[0], 1.0, 1e-6);
+  EXPECT_NEAR(x[1], 1.0, 1e-6);
+  EXPECT_TRUE(non_increasing(r.energy_history));
+  EXPECT_LT(r.iterations, 100);
+}
+
+TEST(Lbfgs, BarrierIteratesStayFeasible) {
+  // Σ (x_i - c_i)² - μ Σ log x_i, half the targets outside the domain x > 0:
+  // from x = 3 the first steps aim past the boundary; the bound keeps every
+  // iterate strictly inside.
+  const int n = 20;
+  VectorXd c(n);
+  for (int i = 0; i < n; ++i) c[i] = (i % 2 ? -1.0 : 2.0) * (1 + 0.1 * i);
+  const double mu = 0.5;
+  int infeasible_evaluations = 0;
+  const EnergyFunction f = [&](const VectorXd& x, VectorXd* g) {
+    if ((x.array() <= 0).any()) {
+      ++infeasible_evaluations;
+      return std::numeric_limits<double>::infinity();
+    }
+    if (g) *g = 2 * (x - c) - mu * x.cwiseInverse();
+    return (x - c).squaredNorm() - mu * x.array().log().sum();
+  };
+  const StepBound bound = [](const VectorXd& x, const VectorXd& d) {
+    double t = std::numeric_limits<double>::infinity();
+    for (Index i = 0; i < x.size(); ++i)
+      if (d[i] < 0) t = std::min(t, -x[i] / d[i]);
+    return t;
+  };
+  VectorXd x = VectorXd::Constant(n, 3.0);
+  LbfgsOptions o;
+  o.energy_tol = 0.0;  // converge on the gradient alone
+  const LbfgsResult r = minimize_lbfgs(f, bound, x, o);
+  EXPECT_EQ(r.stop_reason, "gradient") << r.iterations;
+  EXPECT_EQ(infeasible_evaluations, 0);
+  EXPECT_GT(x.minCoeff(), 0.0);
+  EXPECT_TRUE(non_increasing(r.energy_history));
+  for (int i = 0; i < n; ++i) {  // stationarity: x = (c + sqrt(c² + 2μ)) / 2
+    const double expected = 0.5 * (c[i] + std::sqrt(c[i] * c[i] + 2 * mu));
+    EXPECT_NEAR(x[i], expected, 1e-6 * std::max(1.0, expected)) << i;
+  }
+}
+
+TEST(Lbfgs, IsometricEnergyOfAPinnedPatchDecreasesWithoutFolds) {
+  // A bumpy height-field patch, boundary pinned at its projection, interior free.
+  const int n = 12;
+  MatrixX3d V((n + 1) * (n + 1), 3);
+  MatrixX3i F(2 * n * n, 3);
+  std::vector<Index> free_vertices;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(i) / n, y = double(j) / n;
+      V.row(i * (n + 1) + j) << x, y, 0.4 * std::sin(4 * x) * std::sin(3 * y);
+      if (i > 0 && i < n && j > 0 && j < n) free_vertices.push_back(i * (n + 1) + j);
+    }
+  Index k = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Index a = i * (n + 1) + j, b = a + n + 1;
+      F.row(k++) << a, b, b + 1;
+      F.row(k++) << a, b + 1, a + 1;
+    }
+  const IsometricFactors factors = isometric_factors(V, F);
+  MatrixX2d uv = V.leftCols(2);
+  const MatrixX2d pinned = uv;
+  auto scatter = [&](const VectorXd& x) {
+    MatrixX2d full = pinned;
+    for (std::size_t i = 0; i < free_vertices.size(); ++i) full.row(free_vertices[i]) << x[2 * i], x[2 * i + 1];
+    return full;
+  };
+  const EnergyFunction energy = [&](const VectorXd& x, VectorXd* g) {
+    MatrixX2d grad;
+    const double e = isometric_energy(factors, F, scatter(x), g ? &grad : nullptr);
+    if (g && std::isfinite(e)) {
+      g->resize(x.size());
+      for (std::size_t i = 0; i < free_vertices.size(); ++i)
+        g->segment<2>(2 * i) = grad.row(free_vertices[i]).transpose();
+    }
+    return e;
+  };
+  const StepBound bound = [&](const VectorXd& x, const VectorXd& d) {
+    MatrixX2d dir = MatrixX2d::Zero(pinned.rows(), 2);
+    for (std::size_t i = 0; i < free_vertices.size(); ++i) dir.row(free_vertices[i]) << d[2 * i], d[2 * i + 1];
+    return max_feasible_step(F, scatter(x), dir);
+  };
+  VectorXd x(2 * free_vertices.size());
+  for (std::size_t i = 0; i < free_vertices.size(); ++i)
+    x.segment<2>(2 * i) = pinned.row(free_vertices[i]).transpose();
+  VectorXd g0;
+  const double e0 = energy(x, &g0);
+  LbfgsOptions o;
+  o.max_iterations = 300;
+  const LbfgsResult r = minimize_lbfgs(energy, bound, x, o);
+  VectorXd g1;
+  const double e1 = energy(x, &g1);
+  EXPECT_TRUE(std::isfinite(e1));  // no face inverted
+  EXPECT_LT(e1, e0);
+  EXPECT_LT(g1.norm(), 1e-3 * g0.norm());
+  EXPECT_TRUE(non_increasing(r.energy_history));
+  EXPECT_EQ(r.energy_history.size(), std::size_t(r.iterations) + 1);
+}
