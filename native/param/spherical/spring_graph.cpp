@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "mesh/cotangent_weights.h"
 
 namespace paramorph::spherical {
 
@@ -19,31 +20,8 @@ std::string to_string(Weights weights) {
 
 VectorXd edge_weights(const TriMesh& mesh, Weights kind, double min_angle_degrees,
                       double max_angle_degrees) {
-  const Index num_edges = Index(mesh.edges().rows());
-  if (kind == Weights::Barycentric) return VectorXd::Ones(num_edges);
-
-  const double lo = min_angle_degrees * M_PI / 180.0;
-  const double hi = max_angle_degrees * M_PI / 180.0;
-  const MatrixX3d& V = mesh.V();
-  const MatrixX3i& F = mesh.F();
-  const MatrixX3i& FE = mesh.face_edges();
-  VectorXd w = VectorXd::Zero(num_edges);
-  // Serial scatter: each edge receives from two faces; the cost is negligible
-  // next to the solve and keeps the sum order deterministic.
-  for (Index f = 0; f < mesh.num_faces(); ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d a = V.row(F(f, k));
-      const Eigen::Vector3d b = V.row(F(f, (k + 1) % 3));
-      const Eigen::Vector3d c = V.row(F(f, (k + 2) % 3));
-      const Eigen::Vector3d e1 = b - a, e2 = c - a;
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      const double clamped = std::min(std::max(angle, lo), hi);
-      w[FE(f, k)] += 0.5 / std::tan(clamped);
-    }
-  }
-  // An edge with one face (never in a closed mesh) would get half a weight;
-  // the solver only accepts closed meshes, so no correction is needed.
-  return w;
+  if (kind == Weights::Barycentric) return VectorXd::Ones(mesh.edges().rows());
+  return clamped_cotangent_weights(mesh, min_angle_degrees, max_angle_degrees);
 }
 
 SpringGraph build_spring_graph(const TriMesh& mesh, const VectorXd& edge_weights) {

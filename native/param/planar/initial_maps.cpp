@@ -1,0 +1,154 @@
+#include "param/planar/initial_maps.h"
+
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "common/errors.h"
+#include "mesh/cotangent_weights.h"
+
+namespace paramorph::planar {
+
+namespace {
+
+const std::vector<Index>& longest_loop(const TriMesh& mesh) {
+  const auto& loops = mesh.boundary_loops();
+  PM_REQUIRE(!loops.empty(), NotClosedError,
+             "the mesh has no boundary: a planar map needs an open surface (cut it first)");
+  return *std::max_element(loops.begin(), loops.end(),
+                           [](const auto& a, const auto& b) { return a.size() < b.size(); });
+}
+
+/// Solves L_ff X_f = -L_fp X_p for the vertices not `pinned` (Dirichlet problem).
+MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vector<char>& pinned,
+                        MatrixX2d X) {
+  const Index n = mesh.num_vertices();
+  std::vector<Index> slot(n, -1);
+  Index unknowns = 0;
+  for (Index v = 0; v < n; ++v)
+    if (!pinned[v]) slot[v] = unknowns++;
+  if (unknowns == 0) return X;
+  const Csr& nbr = mesh.vertex_neighbors();
+  const Csr& nbr_edges = mesh.vertex_neighbor_edges();
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(unknowns, 2);
+  for (Index v = 0; v < n; ++v) {
+    if (slot[v] < 0) continue;
+    double degree = 0.0;
+    for (Index k = nbr.begin(v); k < nbr.end(v); ++k) {
+      const Index j = nbr.items[k];
+      const double wk = w[nbr_edges.items[k]];
+      degree += wk;
+      if (slot[j] >= 0) {
+        if (slot[j] < slot[v]) triplets.emplace_back(slot[v], slot[j], -wk);
+      } else {
+        rhs.row(slot[v]) += wk * X.row(j);
+      }
+    }
+    triplets.emplace_back(slot[v], slot[v], degree);
+  }
+  Eigen::SparseMatrix<double> A(unknowns, unknowns);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(A);
+  PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
+             "the Tutte system is singular: a part of the mesh does not reach the boundary");
+  const Eigen::MatrixXd Y = solver.solve(rhs);
+  for (Index v = 0; v < n; ++v)
+    if (slot[v] >= 0) X.row(v) = Y.row(slot[v]);
+  return X;
+}
+
+}  // namespace
+
+MatrixX2d tutte_map(const TriMesh& mesh) {
+  const std::vector<Index>& loop = longest_loop(mesh);
+  const MatrixX3d& V = mesh.V();
+  std::vector<double> cumulative{0.0};
+  for (std::size_t k = 0; k < loop.size(); ++k)
+    cumulative.push_back(cumulative.back() +
+                         (V.row(loop[(k + 1) % loop.size()]) - V.row(loop[k])).norm());
+  MatrixX2d X = MatrixX2d::Zero(mesh.num_vertices(), 2);
+  std::vector<char> pinned(mesh.num_vertices(), 0);
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const double angle = 2.0 * M_PI * cumulative[k] / cumulative.back();
+    X.row(loop[k]) << std::cos(angle), std::sin(angle);
+    pinned[loop[k]] = 1;
+  }
+  return harmonic_fill(mesh, clamped_cotangent_weights(mesh), pinned, std::move(X));
+}
+
+MatrixX2d lscm_map(const TriMesh& mesh) {
+  const std::vector<Index>& loop = longest_loop(mesh);
+  const MatrixX3d& V = mesh.V();
+  // Two far-apart boundary vertices (two sweeps of "farthest from").
+  auto farthest = [&](Index from) {
+    return *std::max_element(loop.begin(), loop.end(), [&](Index a, Index b) {
+      return (V.row(a) - V.row(from)).squaredNorm() < (V.row(b) - V.row(from)).squaredNorm();
+    });
+  };
+  const Index a = farthest(loop.front());
+  const Index b = farthest(a);
+  const double distance = (V.row(a) - V.row(b)).norm();
+
+  // Unknowns x = [u; v] of the non-pinned vertices; Q = [[L, -B], [-Bᵀ, L]],
+  // B from the signed area of every boundary loop (½ Σ u_i v_j - u_j v_i).
+  const Index n = mesh.num_vertices();
+  std::vector<Index> slot(n, -1);
+  Index free_count = 0;
+  for (Index v = 0; v < n; ++v)
+    if (v != a && v != b) slot[v] = free_count++;
+  Eigen::Vector2d pin_a(0.0, 0.0), pin_b(distance, 0.0);
+  auto pinned_value = [&](Index v, int c) { return v == a ? pin_a[c] : pin_b[c]; };
+
+  // True (unclamped) cotangents: the conformal energy is exact, so a flat
+  // mesh maps to itself; positivity is not needed for a start that untangling
+  // may repair.
+  const VectorXd w = clamped_cotangent_weights(mesh, 1e-9, 180.0 - 1e-9);
+  const Csr& nbr = mesh.vertex_neighbors();
+  const Csr& nbr_edges = mesh.vertex_neighbor_edges();
+  std::vector<Eigen::Triplet<double>> triplets;
+  VectorXd rhs = VectorXd::Zero(2 * free_count);
+  // Adds q * x_row * x_col (row, col: vertex, component) to ½ xᵀQx's gradient system.
+  auto add = [&](Index vr, int cr, Index vc, int cc, double q) {
+    if (slot[vr] < 0) return;
+    const Index row = cr * free_count + slot[vr];
+    if (slot[vc] >= 0)
+      triplets.emplace_back(row, cc * free_count + slot[vc], q);
+    else
+      rhs[row] -= q * pinned_value(vc, cc);
+  };
+  for (Index v = 0; v < n; ++v) {
+    double degree = 0.0;
+    for (Index k = nbr.begin(v); k < nbr.end(v); ++k) {
+      const double wk = w[nbr_edges.items[k]];
+      degree += wk;
+      for (int c = 0; c < 2; ++c) add(v, c, nbr.items[k], c, -wk);
+    }
+    for (int c = 0; c < 2; ++c) add(v, c, v, c, degree);
+  }
+  for (const auto& boundary : mesh.boundary_loops())
+    for (std::size_t k = 0; k < boundary.size(); ++k) {
+      const Index i = boundary[k], j = boundary[(k + 1) % boundary.size()];
+      // Area ½(u_i v_j - u_j v_i): symmetric Hessian entries ±½ between (u_i, v_j), (u_j, v_i).
+      add(i, 0, j, 1, -0.5);
+      add(j, 1, i, 0, -0.5);
+      add(j, 0, i, 1, 0.5);
+      add(i, 1, j, 0, 0.5);
+    }
+  Eigen::SparseMatrix<double> Q(2 * free_count, 2 * free_count);
+  Q.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Q);
+  PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
+             "the conformal map system is singular (is the mesh connected?)");
+  const VectorXd x = solver.solve(rhs);
+  MatrixX2d X(n, 2);
+  for (Index v = 0; v < n; ++v) {
+    if (slot[v] >= 0)
+      X.row(v) << x[slot[v]], x[free_count + slot[v]];
+    else
+      X.row(v) = (v == a ? pin_a : pin_b).transpose();
+  }
+  return X;
+}
+
+}  // namespace paramorph::planar

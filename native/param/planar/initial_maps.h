@@ -1,0 +1,22 @@
+// Starting maps for the planar solver (thesis 2.3; DESIGN.md §4.1).
+//
+// tutte_map: the longest boundary loop on the unit circle (spaced by edge
+//   length), interior vertices as positive-weight averages of their neighbours
+//   (clamped cotangent weights): fold-free for a disc (Tutte/Floater).
+// lscm_map: free boundary, least-squares conformal map (conformal energy =
+//   Dirichlet energy minus the boundary's signed area) with two boundary
+//   vertices pinned, true cotangent weights, solved with a sparse LDLᵀ.
+#pragma once
+
+#include "mesh/tri_mesh.h"
+
+namespace paramorph::planar {
+
+/// #V by 2. Needs at least one boundary loop.
+MatrixX2d tutte_map(const TriMesh& mesh);
+
+/// #V by 2; pins the two boundary vertices farthest apart at (0, 0) and
+/// (d, 0), d their 3D distance, so the map has the surface's scale.
+MatrixX2d lscm_map(const TriMesh& mesh);
+
+}  // namespace paramorph::planar
