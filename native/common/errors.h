@@ -18,6 +18,8 @@ class MeshError : public std::invalid_argument {
 };
 /// The mesh has boundary loops where a closed surface is required.
 class NotClosedError : public MeshError { using MeshError::MeshError; };
+/// The mesh is closed where an open surface (with a boundary) is required.
+class NotOpenError : public MeshError { using MeshError::MeshError; };
 /// The mesh is closed and connected but its genus is not zero.
 class NotGenusZeroError : public MeshError { using MeshError::MeshError; };
 /// The mesh has more than one connected component.

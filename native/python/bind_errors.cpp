@@ -12,6 +12,7 @@ namespace py = pybind11;
 void bind_errors(py::module_& m) {
   static py::exception<MeshError> mesh_error(m, "MeshError", PyExc_ValueError);
   static py::exception<NotClosedError> not_closed(m, "NotClosedError", mesh_error.ptr());
+  static py::exception<NotOpenError> not_open(m, "NotOpenError", mesh_error.ptr());
   static py::exception<NotGenusZeroError> not_genus0(m, "NotGenusZeroError", mesh_error.ptr());
   static py::exception<DisconnectedError> disconnected(m, "DisconnectedError", mesh_error.ptr());
   static py::exception<NonManifoldError> non_manifold(m, "NonManifoldError", mesh_error.ptr());
@@ -28,6 +29,8 @@ void bind_errors(py::module_& m) {
       if (p) std::rethrow_exception(p);
     } catch (const NotClosedError& e) {
       not_closed(e.what());
+    } catch (const NotOpenError& e) {
+      not_open(e.what());
     } catch (const NotGenusZeroError& e) {
       not_genus0(e.what());
     } catch (const DisconnectedError& e) {

@@ -8,4 +8,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_mesh(m);
   paramorph::python::bind_compute(m);
   paramorph::python::bind_sphere(m);
+  paramorph::python::bind_planar(m);
 }

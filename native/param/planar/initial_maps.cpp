@@ -19,7 +19,8 @@ const std::vector<Index>& longest_loop(const TriMesh& mesh) {
                            [](const auto& a, const auto& b) { return a.size() < b.size(); });
 }
 
-/// Solves L_ff X_f = -L_fp X_p for the vertices not `pinned` (Dirichlet problem).
+}  // namespace
+
 MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vector<char>& pinned,
                         MatrixX2d X) {
   const Index n = mesh.num_vertices();
@@ -57,8 +58,6 @@ MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vecto
     if (slot[v] >= 0) X.row(v) = Y.row(slot[v]);
   return X;
 }
-
-}  // namespace
 
 MatrixX2d tutte_map(const TriMesh& mesh) {
   const std::vector<Index>& loop = longest_loop(mesh);

@@ -8,9 +8,16 @@
 //   vertices pinned, true cotangent weights, solved with a sparse LDLᵀ.
 #pragma once
 
+#include <vector>
+
 #include "mesh/tri_mesh.h"
 
 namespace paramorph::planar {
+
+/// Positions of the vertices not `pinned` solving L_ff X_f = -L_fp X_p with
+/// edge weights w (#E, positive for Floater's guarantee); pinned rows of X kept.
+MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vector<char>& pinned,
+                        MatrixX2d X);
 
 /// #V by 2. Needs at least one boundary loop.
 MatrixX2d tutte_map(const TriMesh& mesh);
