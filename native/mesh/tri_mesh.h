@@ -4,6 +4,11 @@
 // Topology is built from the face list alone and tolerates broken input
 // (non-manifold edges, isolated vertices): validation reads it to report what
 // is wrong. Algorithms that need a manifold call validate() first.
+//
+// All of it is built together on the first call to any getter (O(F) plus a
+// sort of each vertex's few edges; about 0.25 s for 1.3M faces on one core), under
+// std::call_once, so concurrent first calls from several threads are safe.
+// Copies of a TriMesh share the built topology.
 #pragma once
 
 #include <memory>
@@ -34,20 +39,28 @@ class TriMesh {
   Index num_vertices() const { return Index(V_.rows()); }
   Index num_faces() const { return Index(F_.rows()); }
 
-  /// #E by 2 undirected edges (a < b), sorted lexicographically.
+  /// #E by 2 undirected edges (a < b), sorted lexicographically. A face that
+  /// repeats an index contributes a self-edge (a == a), kept so face_edges()
+  /// stays total; it is never anyone's neighbour.
   const MatrixX2i& edges() const;
   /// #F by 3: edge index of the edge opposite corner k of face f
   /// (the edge between F(f,(k+1)%3) and F(f,(k+2)%3)).
   const MatrixX3i& face_edges() const;
-  /// Per edge, the faces that contain it (1 on a boundary, 2 inside, more if non-manifold).
+  /// Per edge, the faces that contain it, ascending (1 on a boundary, 2 inside,
+  /// more if non-manifold).
   const Csr& edge_faces() const;
-  /// Per vertex, the faces that contain it, as (face * 3 + corner) entries.
+  /// Per vertex, the faces that contain it, as (face * 3 + corner) entries, ascending.
   const Csr& vertex_corners() const;
   /// Per vertex, its neighbouring vertices (sorted ascending) — the 1-ring.
   const Csr& vertex_neighbors() const;
   /// Per vertex, the edge index of each entry of vertex_neighbors() (same order).
   const Csr& vertex_neighbor_edges() const;
-  /// Boundary loops as ordered vertex cycles (only edges with exactly one face).
+  /// Boundary loops as ordered vertex cycles (only edges with exactly one face),
+  /// each running the way its faces traverse it and starting at its lowest
+  /// vertex. Loops are followed fan by fan around each vertex, so two holes
+  /// touching at one vertex stay two loops; where fans are broken (flipped
+  /// faces, non-manifold edges) a loop may come out as an open chain, and the
+  /// walk always ends (each boundary half-edge is used once).
   const std::vector<std::vector<Index>>& boundary_loops() const;
   /// Connected components: per-vertex label in [0, num_components); isolated
   /// vertices (in no face) get their own label.

@@ -13,17 +13,21 @@ struct MeshReport {
   Index vertices = 0;
   Index faces = 0;
   Index edges = 0;
-  Index components = 0;
+  Index components = 0;       ///< connected components, each isolated vertex counting as one
   Index boundary_loops = 0;
-  Index euler_characteristic = 0;
-  /// Genus from chi = 2 - 2g - b for a connected orientable manifold; -1 when
-  /// undefined (disconnected or non-manifold mesh).
+  Index boundary_edges = 0;   ///< edges with exactly one face
+  Index euler_characteristic = 0;  ///< V - E + F over all vertices
+  /// Genus from chi = 2 - 2g - b of the one surface (isolated vertices left
+  /// out of chi); -1 when undefined (several surfaces, non-manifold, or a
+  /// non-orientable count).
   Index genus = -1;
   std::vector<Index> non_manifold_edges;     ///< edge indices with > 2 faces
+  MatrixX2i non_manifold_edge_vertices;      ///< #non_manifold_edges by 2: their (a < b) vertices
   std::vector<Index> non_manifold_vertices;  ///< vertices whose faces form several fans
   std::vector<Index> degenerate_faces;       ///< repeated indices or area <= tolerance
   std::vector<Index> isolated_vertices;      ///< vertices in no face
   std::vector<Index> inconsistent_orientation_edges;  ///< interior edges used twice in one direction
+  MatrixX2i inconsistent_orientation_edge_vertices;   ///< their (a < b) vertices, one row each
   bool is_closed_genus0 = false;
 };
 
@@ -40,10 +44,15 @@ MeshReport validate(const TriMesh& mesh, double relative_area_tolerance = 1e-14)
 /// connected, manifold, consistently oriented genus-0 surface without
 /// degenerate faces or isolated vertices. Checks in this order: non-manifold,
 /// degenerate, several surfaces, not closed (says how many boundary loops),
-/// loose vertices (DisconnectedError), orientation, not genus 0 (says the genus).
+/// loose vertices (DisconnectedError), orientation (NonManifoldError: not an
+/// oriented manifold), not genus 0 (says the genus). Messages name vertices,
+/// edges as vertex pairs, and faces, so an artist can select them.
 void require_closed_genus0(const MeshReport& report);
 
 /// Short human-readable list "0, 5, 17 (and 3 more)" for error messages.
 std::string format_indices(const std::vector<Index>& indices, std::size_t max_shown = 10);
+
+/// Edges as vertex pairs "(3, 7), (8, 12) (and 2 more)": rows of a #k by 2 matrix.
+std::string format_vertex_pairs(const MatrixX2i& pairs, std::size_t max_shown = 10);
 
 }  // namespace paramorph

@@ -75,7 +75,7 @@ def test_open_mesh_raises_and_writes_nothing():
     pm = bridge.require_native()
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=6, y_subdivisions=6)
     obj = bpy.context.active_object
-    with pytest.raises(pm.NotClosedError, match="boundary loops"):
+    with pytest.raises(pm.NotClosedError, match="not closed: it has 1 boundary loop"):
         bridge.sphere_map_object(obj)
     assert "Sphere" not in obj.data.uv_layers
     assert obj.data.shape_keys is None

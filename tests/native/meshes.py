@@ -1,19 +1,36 @@
-"""Named test meshes built in numpy (DESIGN.md §5): every function returns
-(V float64 (n,3), F int32 (m,3)); closed ones are oriented counter-clockwise
-seen from outside. Deterministic (seeded)."""
+"""Named test meshes built in numpy (DESIGN.md §5), shared by tests and benchmarks.
+
+Every function returns ``(V, F)``: V float64 (n, 3) positions, F int32 (m, 3)
+0-based vertex indices. Closed meshes are oriented counter-clockwise seen from
+outside (outward normals, positive signed volume). Everything is deterministic
+(seeded RNGs), so a failing assertion names a reproducible mesh.
+
+Closed genus-0 families: icosphere, noisy_blob, tentacle_sphere, cad_box,
+bad_triangulation, sized_sphere_mesh (benchmarks). Broken families (error
+paths): open_disc, torus, two_spheres, non_manifold_edge, pinched_spheres,
+flipped_face, loose_vertex, nan_vertex, out_of_range_index, zero_area_face.
+"""
 import numpy as np
 
+_ICOSAHEDRON_F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
+                           [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
+                           [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
+                           [8, 6, 7], [9, 8, 1]], dtype=np.int64)
 
-def icosphere(subdivisions=2):
+
+def _icosahedron():
     t = (1.0 + 5 ** 0.5) / 2.0
     V = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
                   [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]],
                  dtype=np.float64)
-    F = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
-                  [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
-                  [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
-                  [8, 6, 7], [9, 8, 1]], dtype=np.int64)
-    V /= np.linalg.norm(V, axis=1, keepdims=True)
+    return V / np.linalg.norm(V, axis=1, keepdims=True), _ICOSAHEDRON_F.copy()
+
+
+# --- closed genus 0 ---------------------------------------------------------------
+
+def icosphere(subdivisions=2):
+    """Unit icosphere: 20 * 4**subdivisions faces."""
+    V, F = _icosahedron()
     for _ in range(subdivisions):
         V, F = _subdivide(V, F)
         V /= np.linalg.norm(V, axis=1, keepdims=True)
@@ -36,123 +53,282 @@ def _subdivide(V, F):
     return V, F
 
 
-def _radial(V, radius):
-    return V * radius[:, None]
+def geodesic_sphere(frequency):
+    """Unit sphere from the icosahedron with every face split into frequency**2
+    triangles (20 * frequency**2 faces, any integer frequency, not just powers
+    of two). Shared edge points are welded on exact integer barycentric keys."""
+    n = int(frequency)
+    if n < 1:
+        raise ValueError("frequency must be >= 1")
+    V0, F0 = _icosahedron()
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij")
+    keep = i + j <= n
+    i, j = i[keep], j[keep]                      # lattice points of one face
+    local = -np.ones((n + 1, n + 1), np.int64)
+    local[i, j] = np.arange(len(i))
+    ids = np.repeat(F0, len(i), axis=0).reshape(20, len(i), 3)          # (20, P, 3)
+    weights = np.broadcast_to(np.stack([n - i - j, i, j], 1), ids.shape)  # (20, P, 3)
+    ids = np.where(weights > 0, ids, -1).reshape(-1, 3)
+    weights = weights.reshape(-1, 3)
+    order = np.argsort(ids, axis=1, kind="stable")
+    ids = np.take_along_axis(ids, order, 1)
+    weights = np.take_along_axis(weights, order, 1)
+    keys = np.concatenate([ids, weights], 1)
+    unique, first, weld = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    weld = weld.reshape(-1)
+    V = (weights[first, :, None] * V0[np.maximum(ids[first], 0)]).sum(1) / n
+    V /= np.linalg.norm(V, axis=1, keepdims=True)
+    # Up triangles (i,j),(i+1,j),(i,j+1) and down triangles (i+1,j),(i+1,j+1),(i,j+1):
+    # both keep the orientation of the icosahedron face.
+    ui, uj = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) <= n - 1)
+    di, dj = np.nonzero(np.add.outer(np.arange(n), np.arange(n)) <= n - 2)
+    tri = np.concatenate([np.stack([local[ui, uj], local[ui + 1, uj], local[ui, uj + 1]], 1),
+                          np.stack([local[di + 1, dj], local[di + 1, dj + 1], local[di, dj + 1]], 1)])
+    P = len(i)
+    F = (tri[None, :, :] + P * np.arange(20)[:, None, None]).reshape(-1, 3)
+    return V, weld[F].astype(np.int32)
+
+
+def _blob(V, seed, amplitude=0.12, waves=6):
+    """Star-shaped, smooth, non-convex: the unit-sphere points V pushed along
+    their own direction by a sum of low-frequency waves, then stretched. The
+    radius stays >= 1 - waves * amplitude > 0, so nothing self-intersects."""
+    rng = np.random.default_rng(seed)
+    r = np.ones(len(V))
+    for _ in range(waves):
+        direction = rng.normal(size=3)
+        direction /= np.linalg.norm(direction)
+        r += amplitude * np.cos(3.0 * (V @ direction) + rng.uniform(0, 2 * np.pi))
+    return V * r[:, None] * np.array([1.0, 1.3, 0.8])
 
 
 def noisy_blob(subdivisions=3, seed=0):
     """Icosphere pushed by smooth random low-frequency radial noise (non-convex, star-shaped)."""
     V, F = icosphere(subdivisions)
-    rng = np.random.default_rng(seed)
-    r = np.ones(len(V))
-    for _ in range(6):
-        direction = rng.normal(size=3)
-        direction /= np.linalg.norm(direction)
-        r += 0.12 * np.cos(3.0 * (V @ direction) + rng.uniform(0, 2 * np.pi))
-    return _radial(V, r) * np.array([1.0, 1.3, 0.8]), F
+    return _blob(V, seed), F
 
 
-def tentacle_sphere(subdivisions=4, tentacles=6, length=4.0, seed=1):
-    """A sphere with long thin fingers pulled out along `tentacles` directions."""
+def tentacle_directions(tentacles=6, seed=1):
+    """Unit axes of tentacle_sphere's fingers: a Fibonacci sphere (evenly
+    spread, so fingers never meet) turned by a seeded random rotation."""
+    k = np.arange(tentacles) + 0.5
+    z = 1.0 - 2.0 * k / tentacles
+    phi = np.pi * (1.0 + 5 ** 0.5) * k
+    D = np.stack([np.sqrt(1 - z * z) * np.cos(phi), np.sqrt(1 - z * z) * np.sin(phi), z], 1)
+    q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    return D @ q.T
+
+
+def tentacle_sphere(subdivisions=4, tentacles=6, length=4.0, seed=1, cut_angle=0.2):
+    """A unit sphere with `tentacles` long thin fingers (extremities, thesis 3.5.1).
+
+    Around each axis the sphere's faces within `cut_angle` are removed and the
+    hole is extruded into a tube of about 0.8 * sin(cut_angle) radius (0.16 by
+    default: ~6x thinner than the body) that runs `length` body radii out,
+    tapers a little and ends in a rounded tip. The tube is meshed ring by ring
+    with as many vertices per ring as the hole's rim, and rings spaced 1.5x
+    the spacing around, so its triangles stay well shaped however long it is.
+    Each finger lies in a cylinder of the rim's radius around its own axis and
+    the axes are spread apart, so the surface does not self-intersect.
+    """
     V, F = icosphere(subdivisions)
+    V = list(V)
+    F = np.asarray(F, np.int64)
+    axes = tentacle_directions(tentacles, seed)
+    if tentacles > 1:
+        cos_sep = np.clip(axes @ axes.T - 2 * np.eye(tentacles), -1, 1).max()
+        if np.arccos(cos_sep) < 3 * cut_angle:
+            raise ValueError("too many tentacles for this cut_angle: fingers would touch")
+    new_faces = []
+    for d in axes:
+        P = np.asarray(V)
+        centroid_cos = (P[F].mean(axis=1) / np.linalg.norm(P[F].mean(axis=1), axis=1)[:, None]) @ d
+        cut = centroid_cos > np.cos(cut_angle)
+        rim = _hole_loop(F[~cut], F[cut])      # runs clockwise around d seen from outside
+        F = F[~cut]
+        # Frame around the axis; azimuth of each rim vertex, unwrapped.
+        e1 = np.cross(d, [1.0, 0, 0] if abs(d[0]) < 0.9 else [0, 1.0, 0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(d, e1)
+        R = P[rim]
+        angles = np.unwrap(np.arctan2(R @ e2, R @ e1))
+        turn = np.sign(angles[-1] - angles[0])  # -1: clockwise about d
+        k = len(rim)
+        # Later rings: evenly spread azimuths in the rim's order and phase.
+        phase = np.mean(angles - turn * 2 * np.pi * np.arange(k) / k)
+        az = phase + turn * 2 * np.pi * np.arange(k) / k
+        around = np.cos(az)[:, None] * e1 + np.sin(az)[:, None] * e2
+        rim_radius = np.linalg.norm(R - np.outer(R @ d, d), axis=1).min()
+        radius = 0.8 * np.sin(cut_angle)
+        step = 1.5 * 2 * np.pi * radius / k
+        heights = np.arange(step, length - radius, step)
+        prev = list(rim)
+        for s in heights:
+            taper = 1.0 - 0.35 * s / length
+            fillet = (rim_radius - radius) * np.exp(-s / (2 * step))  # flares into the body
+            ring_r = radius * taper + max(fillet, 0.0)
+            ring = np.arange(len(V), len(V) + k)
+            V.extend(d * (1.0 + s) + ring_r * around)
+            new_faces += _ring_strip(prev, ring)
+            prev = list(ring)
+        # Rounded tip: a quarter circle of rings, then a fan to the apex.
+        tip_r = radius * (1.0 - 0.35 * heights[-1] / length)
+        tip_rings = max(2, int(np.ceil(0.5 * np.pi * tip_r / step)))
+        for t in range(1, tip_rings):
+            a = 0.5 * np.pi * t / tip_rings
+            ring = np.arange(len(V), len(V) + k)
+            V.extend(d * (1.0 + heights[-1] + tip_r * np.sin(a)) + tip_r * np.cos(a) * around)
+            new_faces += _ring_strip(prev, ring)
+            prev = list(ring)
+        apex = len(V)
+        V.append(d * (1.0 + heights[-1] + tip_r))
+        new_faces += [[prev[(i + 1) % k], prev[i], apex] for i in range(k)]
+    F = np.concatenate([F, np.asarray(new_faces, np.int64).reshape(-1, 3)])
+    return _compact(np.asarray(V), F)
+
+
+def _hole_loop(kept, removed):
+    """Ordered vertices of the single boundary loop left in `kept` faces where
+    the connected disc `removed` is cut out, following kept faces' orientation."""
+    half = np.concatenate([kept[:, [0, 1]], kept[:, [1, 2]], kept[:, [2, 0]]])
+    cut = {tuple(e) for e in np.concatenate([removed[:, [1, 0]], removed[:, [2, 1]], removed[:, [0, 2]]])}
+    nxt = {int(a): int(b) for a, b in half if (int(a), int(b)) in cut}
+    start = min(nxt)
+    loop = [start]
+    while nxt[loop[-1]] != start:
+        loop.append(nxt[loop[-1]])
+        if len(loop) > len(nxt):
+            raise ValueError("cut region is not a disc")
+    if len(loop) != len(nxt):
+        raise ValueError("cut region is not a disc")
+    return np.array(loop)
+
+
+def _ring_strip(lower, upper):
+    """Faces joining two rings of equal length whose lower edges run
+    lower[i] -> lower[i+1] in the faces below (so we use them reversed)."""
+    k = len(lower)
+    faces = []
+    for i in range(k):
+        j = (i + 1) % k
+        faces.append([lower[j], lower[i], upper[i]])
+        faces.append([lower[j], upper[i], upper[j]])
+    return faces
+
+
+def _compact(V, F):
+    """Drops unused vertices and renumbers."""
+    used = np.unique(F)
+    remap = -np.ones(len(V), np.int64)
+    remap[used] = np.arange(len(used))
+    return V[used].astype(np.float64), remap[F].astype(np.int32)
+
+
+def cad_box(cells_per_unit=8, boss_height=0.25):
+    """A CAD-like part: a 2 x 1.4 x 1 box with a rectangular boss standing
+    `boss_height` on its top face. Every face is planar and axis-aligned, all
+    edges are sharp 90° (convex on the box and boss, concave at the boss's
+    foot). Faces are regular grids of `cells_per_unit` cells per unit, built
+    on an integer lattice so the walls weld exactly to the top face."""
+    k = int(cells_per_unit)
+    nx, ny, nz = 2 * k, 2 * int(round(0.7 * k)), k
+    bx0, bx1, by0, by1 = nx // 4, nx - nx // 4, ny // 4, ny - ny // 4
+    bh = max(1, int(round(boss_height * k)))
+    X, Y, Z = np.eye(3, dtype=np.int64)
+    o = np.zeros(3, np.int64)
+    in_boss = lambda p: (bx0 <= p[:, 0]) & (p[:, 0] < bx1) & (by0 <= p[:, 1]) & (p[:, 1] < by1)  # noqa: E731
+    patches = [  # (origin, du, dv, nu, nv, skip-cell test); outward normal = du x dv
+        (o, Y, X, ny, nx, None),                      # bottom, -z
+        (nz * Z, X, Y, nx, ny, in_boss),              # top, +z, boss footprint cut out
+        (o, X, Z, nx, nz, None),                      # front, -y
+        (ny * Y, Z, X, nz, nx, None),                 # back, +y
+        (o, Z, Y, nz, ny, None),                      # left, -x
+        (nx * X, Y, Z, ny, nz, None),                 # right, +x
+        (bx0 * X + by0 * Y + (nz + bh) * Z, X, Y, bx1 - bx0, by1 - by0, None),  # boss top
+        (bx0 * X + by0 * Y + nz * Z, X, Z, bx1 - bx0, bh, None),                # boss front
+        (bx0 * X + by1 * Y + nz * Z, Z, X, bh, bx1 - bx0, None),                # boss back
+        (bx0 * X + by0 * Y + nz * Z, Z, Y, bh, by1 - by0, None),                # boss left
+        (bx1 * X + by0 * Y + nz * Z, Y, Z, by1 - by0, bh, None),                # boss right
+    ]
+    corners = []
+    for origin, du, dv, nu, nv, skip in patches:
+        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+        i, j = i.ravel(), j.ravel()
+        p00 = origin + np.outer(i, du) + np.outer(j, dv)
+        if skip is not None:
+            keep = ~skip(p00)
+            i, j, p00 = i[keep], j[keep], p00[keep]
+        p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
+        corners += [np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)]
+    lattice = np.concatenate(corners)                      # (m, 3 corners, 3 coords), integers
+    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
+    V = (unique - np.array([nx, ny, nz]) / 2.0) / k
+    return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+
+
+def bad_triangulation(seed=2, splits=80):
+    """Closed genus 0 with slivers, very obtuse angles and mixed sizes.
+
+    The convex hull of points spread very unevenly on the unit sphere (a dense
+    band, a sparse scatter and a near-collinear line: faces from tiny to huge),
+    stretched into an ellipsoid; then `splits` edges are split very unevenly
+    (at 1-4% of their length), each leaving a sliver with an angle near 0°
+    and one near 180° minus the old corner angle."""
     rng = np.random.default_rng(seed)
-    dirs = rng.normal(size=(tentacles, 3))
-    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
-    r = np.ones(len(V))
-    for d in dirs:
-        cos = V @ d
-        cap = np.clip((cos - 0.93) / 0.07, 0.0, 1.0)  # thin cap around the direction
-        r += length * cap ** 0.5
-    return _radial(V, r), F
-
-
-def cad_box(n=8):
-    """A box (2 x 1.4 x 1) with a raised square boss on its top: sharp 90° edges,
-    grid-triangulated faces. Built by projecting a cube-sphere grid onto the box."""
-    g = np.linspace(-1.0, 1.0, n + 1)
-    u, v = np.meshgrid(g, g, indexing="ij")
-    u, v = u.ravel(), v.ravel()
-    quads = []
-    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
-    for i in range(n):
-        for j in range(n):
-            quads.append([idx[i, j], idx[i + 1, j], idx[i + 1, j + 1], idx[i, j + 1]])
-    quads = np.array(quads)
-    verts, faces = [], []
-    one = np.ones_like(u)
-    sides = [np.stack([one, u, v], 1), np.stack([-one, v, u], 1), np.stack([v, one, u], 1),
-             np.stack([u, -one, v], 1), np.stack([u, v, one], 1), np.stack([v, u, -one], 1)]
-    for P in sides:
-        base = sum(len(x) for x in verts)
-        verts.append(P)
-        q = quads + base
-        faces.append(np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]))
-    V = np.concatenate(verts)
-    F = np.concatenate(faces)
-    V, F = _weld(V, F)
-    F = _orient_outward(V, F)
-    # Boss: lift the middle of the top face, then box the shape.
-    top = (V[:, 2] > 0.999) & (np.abs(V[:, 0]) < 0.45) & (np.abs(V[:, 1]) < 0.45)
-    V = V * np.array([1.0, 0.7, 0.5])
-    V[top, 2] += 0.3
-    return V, F.astype(np.int32)
-
-
-def bad_triangulation(seed=2):
-    """Closed genus 0 with slivers, obtuse angles and mixed sizes: a convex hull of
-    points clustered unevenly on an ellipsoid (dense patches, sparse regions)."""
-    rng = np.random.default_rng(seed)
-    dense = rng.normal(size=(400, 3)) * np.array([0.15, 0.15, 1.0]) + np.array([0, 0, 0])
+    dense = rng.normal(size=(400, 3)) * np.array([0.15, 0.15, 1.0])
     sparse = rng.normal(size=(60, 3))
     line = np.stack([np.linspace(-1, 1, 80), 0.02 * rng.normal(size=80), np.ones(80)], 1)
     P = np.concatenate([dense, sparse, line])
     P /= np.linalg.norm(P, axis=1, keepdims=True)
-    V, F = _sphere_hull(P)
-    return V * np.array([2.0, 1.0, 0.6]), F
-
-
-def _sphere_hull(P):
-    """Triangulation of points on the unit sphere = their convex hull (gift-free:
-    Delaunay on the sphere via the lifting-free hull from numpy only)."""
-    F = _convex_hull(P)
-    return P, _orient_outward(P, F).astype(np.int32)
+    F = _orient_outward(P, _convex_hull(P))
+    V = list(P * np.array([2.0, 1.0, 0.6]))
+    for _ in range(splits):
+        f, c = int(rng.integers(len(F))), int(rng.integers(3))
+        a, b = F[f, c], F[f, (c + 1) % 3]
+        t = rng.uniform(0.01, 0.04)
+        m = len(V)
+        V.append((1 - t) * V[a] + t * V[b])   # on the chord: the split faces stay flat
+        # Both faces of edge (a, b): (u, v, w) with {u, v} = {a, b} becomes
+        # (u, m, w) + (m, v, w), keeping the orientation.
+        added = []
+        for k in range(3):
+            u, v, w = F[:, k], F[:, (k + 1) % 3], F[:, (k + 2) % 3]
+            for g in np.nonzero(((u == a) & (v == b)) | ((u == b) & (v == a)))[0]:
+                added.append([m, v[g], w[g]])
+                F[g] = [u[g], m, w[g]]
+        F = np.concatenate([F, np.array(added, np.int64)])
+    return _compact(np.asarray(V, np.float64), F)
 
 
 def _convex_hull(P):
-    """Incremental 3D convex hull (O(n^2), fine for test sizes)."""
+    """Incremental 3D convex hull (O(n^2), vectorized per point; fine for test
+    sizes). Points on a sphere are all extreme, so every point ends up a vertex."""
     n = len(P)
     i0, i1 = 0, 1
     i2 = next(i for i in range(2, n) if np.linalg.norm(np.cross(P[i1] - P[i0], P[i] - P[i0])) > 1e-9)
     i3 = next(i for i in range(3, n)
               if abs(np.dot(np.cross(P[i1] - P[i0], P[i2] - P[i0]), P[i] - P[i0])) > 1e-9)
-    faces = [[i0, i1, i2], [i0, i2, i3], [i0, i3, i1], [i1, i3, i2]]
-    centroid = P[[i0, i1, i2, i3]].mean(axis=0)
-    faces = [f if np.dot(np.cross(P[f[1]] - P[f[0]], P[f[2]] - P[f[0]]), P[f[0]] - centroid) > 0
-             else [f[0], f[2], f[1]] for f in faces]
+    F = np.array([[i0, i1, i2], [i0, i2, i3], [i0, i3, i1], [i1, i3, i2]], np.int64)
+    inward = np.einsum("ij,ij->i", _normals(P, F), P[F[:, 0]] - P[[i0, i1, i2, i3]].mean(axis=0)) < 0
+    F[inward] = F[inward][:, [0, 2, 1]]
     for p in range(n):
         if p in (i0, i1, i2, i3):
             continue
-        visible = [f for f in faces
-                   if np.dot(np.cross(P[f[1]] - P[f[0]], P[f[2]] - P[f[0]]), P[p] - P[f[0]]) > 1e-12]
-        if not visible:
+        visible = np.einsum("ij,ij->i", _normals(P, F), P[p] - P[F[:, 0]]) > 1e-12
+        if not visible.any():
             continue
-        edges = {}
-        for f in visible:
-            for a, b in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0])):
-                edges[(a, b)] = edges.get((a, b), 0) + 1
-        horizon = [(a, b) for (a, b) in edges if (b, a) not in edges]
-        faces = [f for f in faces if f not in visible] + [[a, b, p] for a, b in horizon]
-    return np.array(faces, dtype=np.int64)
+        seen = {(int(a), int(b)) for f in F[visible] for a, b in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0]))}
+        horizon = [(a, b, p) for (a, b) in seen if (b, a) not in seen]
+        F = np.concatenate([F[~visible], np.array(horizon, np.int64)])
+    return F
 
 
-def _weld(V, F, tol=1e-9):
-    keys = np.round(V / tol).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    return V[first], inverse.reshape(-1)[F]
+def _normals(V, F):
+    return np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
 
 
 def _orient_outward(V, F):
-    """Flips faces whose normal points towards the centroid (convex-ish shapes only)."""
+    """Flips faces whose normal points towards the centroid (convex shapes only)."""
     c = V.mean(axis=0)
     a, b, d = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
     n = np.cross(b - a, d - a)
@@ -163,47 +339,32 @@ def _orient_outward(V, F):
 
 
 def sized_sphere_mesh(target_faces):
-    """Closed genus-0 blob with about `target_faces` faces: an icosphere of the
-    nearest level, refined by a 1-to-3 split... keep to powers: 20 * 4^k, and for
-    targets between levels, a subdivided icosphere with randomly split faces."""
-    level = 0
-    while 20 * 4 ** (level + 1) <= target_faces:
-        level += 1
-    V, F = noisy_blob(level, seed=7)
-    # Split faces at their centroids (each adds 2 faces) until the target is reached.
-    extra = max(0, (target_faces - len(F)) // 2)
-    if extra:
-        rng = np.random.default_rng(11)
-        chosen = rng.choice(len(F), size=min(extra, len(F)), replace=False)
-        centers = V[F[chosen]].mean(axis=1)
-        new = np.arange(len(V), len(V) + len(chosen))
-        a, b, c = F[chosen, 0], F[chosen, 1], F[chosen, 2]
-        keep = np.ones(len(F), bool)
-        keep[chosen] = False
-        F = np.concatenate([F[keep], np.stack([a, b, new], 1), np.stack([b, c, new], 1),
-                            np.stack([c, a, new], 1)]).astype(np.int32)
-        V = np.vstack([V, centers])
-    return V, F
+    """Closed genus-0 blob with about `target_faces` faces (for benchmarks):
+    a geodesic sphere of the frequency n whose 20 n^2 faces come closest
+    (10k -> 9680, 100k -> 100820, 400k -> 397620), deformed like noisy_blob.
+    Triangles are near-uniform at every size, so timings scale with size only."""
+    frequency = max(1, int(round((target_faces / 20.0) ** 0.5)))
+    V, F = geodesic_sphere(frequency)
+    return _blob(V, seed=7), F
 
 
 def signed_volume(V, F):
+    """Enclosed volume; positive when the faces point outwards."""
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-# Broken meshes for the error paths.
+# --- broken meshes for the error paths ----------------------------------------------
 
 def open_disc():
+    """Icosphere with a cap cut off: one boundary loop."""
     V, F = icosphere(2)
-    keep = V[F].mean(axis=1)[:, 2] < 0.3  # cut a cap off: one boundary loop
-    F = F[keep]
-    used = np.unique(F)
-    remap = -np.ones(len(V), np.int64)
-    remap[used] = np.arange(len(used))
-    return V[used], remap[F].astype(np.int32)
+    keep = V[F].mean(axis=1)[:, 2] < 0.3
+    return _compact(V, F[keep])
 
 
 def torus(n=16, m=8, R=1.0, r=0.35):
+    """Closed, genus 1."""
     i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
     u, v = 2 * np.pi * i.ravel() / n, 2 * np.pi * j.ravel() / m
     V = np.stack([(R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u), r * np.sin(v)], 1)
@@ -217,6 +378,7 @@ def torus(n=16, m=8, R=1.0, r=0.35):
 
 
 def two_spheres():
+    """Two separate closed spheres: 2 components."""
     V, F = icosphere(1)
     return np.vstack([V, V + [3.0, 0, 0]]), np.vstack([F, F + len(V)]).astype(np.int32)
 
@@ -230,7 +392,34 @@ def non_manifold_edge():
     return V, F
 
 
+def pinched_spheres():
+    """Two closed spheres sharing exactly one vertex (0): every edge has two
+    faces, but vertex 0 has two separate fans (a non-manifold vertex)."""
+    V, F = icosphere(1)
+    n = len(V)
+    antipode = int(np.argmin(np.linalg.norm(V + V[0], axis=1)))
+    V2 = V + 2 * V[0]                      # its antipode of vertex 0 lands on vertex 0
+    F2 = F + n
+    F2[F2 == n + antipode] = 0
+    return _compact(np.vstack([V, V2]), np.vstack([F, F2]))
+
+
+def flipped_face(face=5):
+    """Closed genus-0 icosphere with one face turned inside out."""
+    V, F = icosphere(2)
+    F = F.copy()
+    F[face] = F[face, [0, 2, 1]]
+    return V, F
+
+
+def loose_vertex():
+    """Closed genus-0 icosphere plus one vertex used by no face (the last one)."""
+    V, F = icosphere(1)
+    return np.vstack([V, [[0.0, 0.0, 3.0]]]), F
+
+
 def nan_vertex():
+    """NaN in the y coordinate of vertex 5."""
     V, F = icosphere(1)
     V = V.copy()
     V[5, 1] = np.nan
@@ -238,6 +427,7 @@ def nan_vertex():
 
 
 def out_of_range_index():
+    """Face 7 refers to vertex len(V) + 10."""
     V, F = icosphere(1)
     F = F.copy()
     F[7, 2] = len(V) + 10
@@ -245,8 +435,8 @@ def out_of_range_index():
 
 
 def zero_area_face():
-    """Closed genus 0 where one face has zero area: a vertex moved onto the
-    midpoint of the opposite edge of one of its faces."""
+    """Closed genus 0 where face 10 has zero area: one of its corners moved
+    onto the midpoint of the opposite edge."""
     V, F = icosphere(2)
     V = V.copy()
     a, b, c = F[10]
@@ -258,6 +448,17 @@ FAMILIES_CLOSED = {
     "icosphere": lambda: icosphere(3),
     "noisy_blob": lambda: noisy_blob(3, seed=0),
     "tentacle_sphere": lambda: tentacle_sphere(4),
-    "cad_box": lambda: cad_box(8),
+    "cad_box": lambda: cad_box(10),
     "bad_triangulation": lambda: bad_triangulation(),
+}
+
+FAMILIES_BROKEN = {
+    "open_disc": open_disc,
+    "torus": torus,
+    "two_spheres": two_spheres,
+    "non_manifold_edge": non_manifold_edge,
+    "pinched_spheres": pinched_spheres,
+    "flipped_face": flipped_face,
+    "loose_vertex": loose_vertex,
+    "zero_area_face": zero_area_face,
 }
