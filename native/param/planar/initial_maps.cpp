@@ -1,11 +1,14 @@
 #include "param/planar/initial_maps.h"
 
+#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
+#include <Eigen/MetisSupport>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 
 #include "common/errors.h"
 #include "mesh/cotangent_weights.h"
+#include "param/planar/laplacian_preconditioner.h"
 
 namespace paramorph::planar {
 
@@ -23,39 +26,20 @@ const std::vector<Index>& longest_loop(const TriMesh& mesh) {
 
 MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vector<char>& pinned,
                         MatrixX2d X) {
-  const Index n = mesh.num_vertices();
-  std::vector<Index> slot(n, -1);
-  Index unknowns = 0;
-  for (Index v = 0; v < n; ++v)
-    if (!pinned[v]) slot[v] = unknowns++;
-  if (unknowns == 0) return X;
+  const FreeVertices free = free_vertices(pinned);
+  if (free.vertices.empty()) return X;
+  // L_ff X_f = -L_fp X_p: the pinned neighbours' weighted positions.
   const Csr& nbr = mesh.vertex_neighbors();
   const Csr& nbr_edges = mesh.vertex_neighbor_edges();
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(unknowns, 2);
-  for (Index v = 0; v < n; ++v) {
-    if (slot[v] < 0) continue;
-    double degree = 0.0;
-    for (Index k = nbr.begin(v); k < nbr.end(v); ++k) {
-      const Index j = nbr.items[k];
-      const double wk = w[nbr_edges.items[k]];
-      degree += wk;
-      if (slot[j] >= 0) {
-        if (slot[j] < slot[v]) triplets.emplace_back(slot[v], slot[j], -wk);
-      } else {
-        rhs.row(slot[v]) += wk * X.row(j);
-      }
-    }
-    triplets.emplace_back(slot[v], slot[v], degree);
-  }
-  Eigen::SparseMatrix<double> A(unknowns, unknowns);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(A);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(Index(free.vertices.size()), 2);
+  for (Index v : free.vertices)
+    for (Index k = nbr.begin(v); k < nbr.end(v); ++k)
+      if (pinned[nbr.items[k]]) rhs.row(free.slot[v]) += w[nbr_edges.items[k]] * X.row(nbr.items[k]);
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(free_laplacian(mesh, w, free));
   PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
              "the Tutte system is singular: a part of the mesh does not reach the boundary");
   const Eigen::MatrixXd Y = solver.solve(rhs);
-  for (Index v = 0; v < n; ++v)
-    if (slot[v] >= 0) X.row(v) = Y.row(slot[v]);
+  for (Index v : free.vertices) X.row(v) = Y.row(free.slot[v]);
   return X;
 }
 
@@ -89,7 +73,8 @@ MatrixX2d lscm_map(const TriMesh& mesh) {
   const Index b = farthest(a);
   const double distance = (V.row(a) - V.row(b)).norm();
 
-  // Unknowns x = [u; v] of the non-pinned vertices; Q = [[L, -B], [-Bᵀ, L]],
+  // Unknowns x = (u, v) of the non-pinned vertices, interleaved so the
+  // ordering sees the mesh graph; Q = [[L, -B], [-Bᵀ, L]] in (u; v) blocks,
   // B from the signed area of every boundary loop (½ Σ u_i v_j - u_j v_i).
   const Index n = mesh.num_vertices();
   std::vector<Index> slot(n, -1);
@@ -110,9 +95,9 @@ MatrixX2d lscm_map(const TriMesh& mesh) {
   // Adds q * x_row * x_col (row, col: vertex, component) to ½ xᵀQx's gradient system.
   auto add = [&](Index vr, int cr, Index vc, int cc, double q) {
     if (slot[vr] < 0) return;
-    const Index row = cr * free_count + slot[vr];
+    const Index row = 2 * slot[vr] + cr;
     if (slot[vc] >= 0)
-      triplets.emplace_back(row, cc * free_count + slot[vc], q);
+      triplets.emplace_back(row, 2 * slot[vc] + cc, q);
     else
       rhs[row] -= q * pinned_value(vc, cc);
   };
@@ -136,14 +121,14 @@ MatrixX2d lscm_map(const TriMesh& mesh) {
     }
   Eigen::SparseMatrix<double> Q(2 * free_count, 2 * free_count);
   Q.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(Q);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> solver(Q);
   PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
              "the conformal map system is singular (is the mesh connected?)");
   const VectorXd x = solver.solve(rhs);
   MatrixX2d X(n, 2);
   for (Index v = 0; v < n; ++v) {
     if (slot[v] >= 0)
-      X.row(v) << x[slot[v]], x[free_count + slot[v]];
+      X.row(v) << x[2 * slot[v]], x[2 * slot[v] + 1];
     else
       X.row(v) = (v == a ? pin_a : pin_b).transpose();
   }

@@ -10,6 +10,7 @@
 #include "mesh/validate.h"
 #include "param/planar/initial_maps.h"
 #include "param/planar/isometric_energy.h"
+#include "param/planar/laplacian_preconditioner.h"
 #include "param/planar/untangle.h"
 
 namespace paramorph::planar {
@@ -171,10 +172,8 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   }
 
   // Free unknowns: every vertex not hard-pinned.
-  std::vector<Index> free_vertices;
-  for (Index v = 0; v < n; ++v)
-    if (!fixed[v]) free_vertices.push_back(v);
-  const Index nf = Index(free_vertices.size());
+  const FreeVertices free = free_vertices(fixed);
+  const Index nf = Index(free.vertices.size());
   // Soft pins: soft_weight · A_i |uv_i - t_i|² / h², h the mean edge length, so
   // the penalty is an area like the isometric energy.
   const MatrixX2i& E = mesh.edges();
@@ -194,7 +193,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   }
   MatrixX2d full = uv, grad;
   auto scatter = [&](const VectorXd& x) {
-    for (Index i = 0; i < nf; ++i) full.row(free_vertices[i]) << x[2 * i], x[2 * i + 1];
+    for (Index i = 0; i < nf; ++i) full.row(free.vertices[i]) << x[2 * i], x[2 * i + 1];
   };
   const EnergyFunction energy = [&](const VectorXd& x, VectorXd* g) {
     scatter(x);
@@ -207,22 +206,29 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
     }
     if (g) {
       g->resize(2 * nf);
-      for (Index i = 0; i < nf; ++i) g->segment<2>(2 * i) = grad.row(free_vertices[i]).transpose();
+      for (Index i = 0; i < nf; ++i) g->segment<2>(2 * i) = grad.row(free.vertices[i]).transpose();
     }
     return e;
   };
   MatrixX2d direction = MatrixX2d::Zero(n, 2);
   const StepBound bound = [&](const VectorXd& x, const VectorXd& d) {
     scatter(x);
-    for (Index i = 0; i < nf; ++i) direction.row(free_vertices[i]) << d[2 * i], d[2 * i + 1];
+    for (Index i = 0; i < nf; ++i) direction.row(free.vertices[i]) << d[2 * i], d[2 * i + 1];
     return max_feasible_step(F, full, direction);
   };
   VectorXd x(2 * nf);
-  for (Index i = 0; i < nf; ++i) x.segment<2>(2 * i) = uv.row(free_vertices[i]).transpose();
+  for (Index i = 0; i < nf; ++i) x.segment<2>(2 * i) = uv.row(free.vertices[i]).transpose();
   LbfgsOptions lo;
   lo.max_iterations = o.max_iterations;
   lo.gradient_tol = o.tol;
-  const LbfgsResult lr = minimize_lbfgs(energy, bound, x, lo, ProgressWindow(progress, 0.2, 1.0));
+  LbfgsResult lr;
+  if (nf > 0) {
+    VectorXd penalty_diagonal = 2.0 * soft_scale;  // the soft pins' exact Hessian
+    const LaplacianPreconditioner laplacian(mesh, free, penalty_diagonal);
+    LbfgsPreconditioner preconditioner{[&](VectorXd& q) { laplacian.apply(q); },
+                                       [&](const VectorXd& s) { return laplacian.quadratic(s); }};
+    lr = minimize_lbfgs(energy, bound, x, lo, ProgressWindow(progress, 0.2, 1.0), preconditioner);
+  }
   scatter(x);
   result.uv = full;
   result.iterations = lr.iterations;

@@ -109,7 +109,8 @@ class LineSearch {
 }  // namespace
 
 LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_step, VectorXd& x,
-                           const LbfgsOptions& o, ProgressWindow progress) {
+                           const LbfgsOptions& o, ProgressWindow progress,
+                           const LbfgsPreconditioner& preconditioner) {
   PM_REQUIRE(o.memory > 0 && o.max_iterations >= 0 && o.feasible_fraction > 0 &&
                  o.feasible_fraction < 1 && 0 < o.wolfe_c1 && o.wolfe_c1 < o.wolfe_c2 &&
                  o.wolfe_c2 < 1,
@@ -126,6 +127,7 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
   std::vector<double> alpha(o.memory);
   LineSearch search(energy, o, result);
   VectorXd d, x_next, g_next;
+  double pair_scale = 1.0;  // sᵀPs / sᵀy of the newest pair, with a preconditioner
   result.stop_reason = "max_iterations";
   while (result.iterations < o.max_iterations) {
     if (g.norm() <= o.gradient_tol * g0) {
@@ -138,7 +140,10 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
       alpha[i] = pairs[i].first.dot(d) / pairs[i].second.dot(pairs[i].first);
       d -= alpha[i] * pairs[i].second;
     }
-    if (!pairs.empty()) {
+    if (preconditioner.apply) {
+      preconditioner.apply(d);
+      if (!pairs.empty()) d *= pair_scale;
+    } else if (!pairs.empty()) {
       const auto& [s, y] = pairs.back();
       d *= s.dot(y) / y.dot(y);
     }
@@ -165,6 +170,7 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
     }
     VectorXd s = x_next - x, y = g_next - g;
     if (s.dot(y) > 1e-16 * s.norm() * y.norm()) {  // keep H positive definite
+      if (preconditioner.quadratic) pair_scale = preconditioner.quadratic(s) / s.dot(y);
       pairs.emplace_back(std::move(s), std::move(y));
       if (int(pairs.size()) > o.memory) pairs.pop_front();
     }

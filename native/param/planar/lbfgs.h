@@ -42,8 +42,17 @@ using EnergyFunction = std::function<double(const VectorXd& x, VectorXd* grad)>;
 /// max_step(x, d): largest t with x + s d feasible for all s in [0, t) (+inf if unbounded).
 using StepBound = std::function<double(const VectorXd& x, const VectorXd& d)>;
 
+/// Shape of the initial inverse Hessian H0 = (sᵀPs / sᵀy) P⁻¹ of the two-loop
+/// recursion, for an SPD P that resembles the Hessian (e.g. a mesh Laplacian).
+/// apply(q) overwrites q with P⁻¹q; quadratic(s) returns sᵀPs. Empty: H0 = γ I.
+struct LbfgsPreconditioner {
+  std::function<void(VectorXd&)> apply;
+  std::function<double(const VectorXd&)> quadratic;
+};
+
 /// Minimises from a feasible x (finite energy), in place. Every iterate stays feasible.
 LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_step, VectorXd& x,
-                           const LbfgsOptions& options = {}, ProgressWindow progress = {});
+                           const LbfgsOptions& options = {}, ProgressWindow progress = {},
+                           const LbfgsPreconditioner& preconditioner = {});
 
 }  // namespace paramorph::planar

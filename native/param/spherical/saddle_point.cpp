@@ -3,7 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "common/cholesky_solve3.h"
+#include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
 
 namespace paramorph::spherical {
@@ -107,7 +107,7 @@ InnerResult TangentPlaneSolver::solve_pcg(const MatrixX3d& x, MatrixX3d& u, cons
       else
         z.row(v) = r.row(v) * inv_degree[v];  // puncture and ring: diagonal
     }
-    cholesky_solve3(*M.factor, interior, interior);
+    cholesky_solve_rows<PuncturedLaplacian::Factor, 3>(*M.factor, interior, interior);
     for (Index v = 0; v < n; ++v)
       if (M.interior_index[v] >= 0) z.row(v) = interior.row(M.interior_index[v]);
     project(x, z);
