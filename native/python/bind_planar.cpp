@@ -73,6 +73,8 @@ void bind_planar(py::module_& m) {
       .def_readonly("stop_reason", &PlanarMapResult::stop_reason)
       .def_readonly("init", &PlanarMapResult::init)
       .def_readonly("backend", &PlanarMapResult::backend)
+      .def_readonly("device", &PlanarMapResult::device)
+      .def_readonly("backend_note", &PlanarMapResult::backend_note)
       .def_readonly("seconds", &PlanarMapResult::seconds);
 
   m.def(
@@ -98,8 +100,7 @@ void bind_planar(py::module_& m) {
         o.max_iterations = max_iterations;
         o.tol = tol;
         o.allow_folds = allow_folds;
-        PM_REQUIRE(compute::parse_backend(backend) != compute::Backend::OpenCL, ComputeError,
-                   "the planar solver has no OpenCL backend yet: use backend=\"cpu\" or \"auto\"");
+        o.backend = compute::parse_backend(backend);
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return planar::isometric_map(v, f, o, bridge.get()); });
       },
@@ -115,7 +116,9 @@ soft / soft_uv / soft_weight: quadratic-penalty constraints.
 init: "auto" (free boundary), "tutte" (boundary on a circle), "free" (LSCM) or an (n, 2) array.
 A folded start is untangled first (Algorithm 2); folds that cannot be removed raise
 ConstraintError unless allow_folds=True. Raises NotOpenError for a closed mesh,
-NotGenusZeroError for a patch with handles. C++ backend only for now.)doc");
+NotGenusZeroError for a patch with handles.
+backend: "auto" (OpenCL when a device builds the kernels, else C++), "opencl", "cpu";
+the energy, gradient and step bound run there (thesis 2.3.2).)doc");
 }
 
 }  // namespace paramorph::python

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numeric>
 
 #include "common/errors.h"
@@ -69,6 +70,20 @@ TEST(Reduce, MatchesTheHostSum) {
     Buffer<double> buffer(*device, values.data(), values.size());
     const double expected = std::accumulate(values.begin(), values.begin() + n, 0.0);
     EXPECT_NEAR(sum(*device, buffer, n), expected, 1e-12 * std::max(1.0, std::abs(expected))) << n;
+  }
+}
+
+TEST(Reduce, MatchesTheHostMinimum) {
+  auto device = default_device();
+  if (!device) GTEST_SKIP() << default_device_error();
+  for (Index n : {0, 1, 255, 257, 100003}) {
+    std::vector<double> values(std::max<Index>(n, 1), 5.0);
+    for (Index i = 0; i < n; ++i) values[i] = 2.0 + std::sin(0.37 * i);
+    if (n > 0) values[n / 3] = -1.25;  // the minimum, somewhere inside
+    values.push_back(-100.0);          // past n: must be ignored
+    Buffer<double> buffer(*device, values.data(), values.size());
+    const double expected = n > 0 ? -1.25 : std::numeric_limits<double>::infinity();
+    EXPECT_EQ(compute::min(*device, buffer, n), expected) << n;
   }
 }
 

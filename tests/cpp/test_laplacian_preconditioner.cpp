@@ -9,20 +9,8 @@ using namespace paramorph;
 using namespace paramorph::planar;
 
 namespace {
-/// An open patch: a flat grid with every interior vertex lifted a little.
 TriMesh grid_patch(int n) {
-  MatrixX3d V((n + 1) * (n + 1), 3);
-  MatrixX3i F(2 * n * n, 3);
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j)
-      V.row(i * (n + 1) + j) << double(i) / n, double(j) / n, 0.2 * std::sin(3.0 * i / n) * j / n;
-  Index k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      F.row(k++) << a, b, b + 1;
-      F.row(k++) << a, b + 1, a + 1;
-    }
+  auto [V, F] = test_meshes::bumpy_grid(n);
   return TriMesh(V, F);
 }
 }  // namespace

@@ -49,57 +49,39 @@ IsometricFactors isometric_factors(const MatrixX3d& V, const MatrixX3i& F) {
   return out;
 }
 
+double face_first_inversion(const Eigen::Vector2d& u0, const Eigen::Vector2d& u1,
+                            const Eigen::Vector2d& u2, const Eigen::Vector2d& d0,
+                            const Eigen::Vector2d& d1, const Eigen::Vector2d& d2) {
+  const Eigen::Vector2d e1 = u1 - u0, e2 = u2 - u0, f1 = d1 - d0, f2 = d2 - d0;
+  // det(e1 + t f1, e2 + t f2) = c + b t + a t².
+  const double c = cross2(e1, e2);
+  const double b = cross2(e1, f2) + cross2(f1, e2);
+  const double a = cross2(f1, f2);
+  return first_positive_root(a, b, c);
+}
+
 double isometric_energy(const IsometricFactors& factors, const MatrixX3i& F, const MatrixX2d& uv,
                         MatrixX2d* gradient) {
-  const Index m = Index(F.rows());
   if (gradient) gradient->setZero(uv.rows(), 2);
   double total = 0.0;
-  bool inverted = false;
-  for (Index f = 0; f < m && !inverted; ++f) {
-    const double p = factors.factors(f, 0), q = factors.factors(f, 1), r = factors.factors(f, 2);
-    const Eigen::Vector2d u0 = uv.row(F(f, 0)), u1 = uv.row(F(f, 1)), u2 = uv.row(F(f, 2));
-    const Eigen::Vector2d e1 = u1 - u0, e2 = u2 - u0;
-    Eigen::Matrix2d S;
-    S.col(0) = p * e1;
-    S.col(1) = (q + r) * e2 - q * e1;
-    const double det = S.determinant();
-    if (!(det > 0.0)) {
-      inverted = true;
-      break;
-    }
-    const double frob = S.squaredNorm();
-    const double w = factors.area[f];
-    total += w * frob * (1.0 + 1.0 / (det * det));
-    if (gradient) {
-      // dη/dS = 2S(1 + det⁻²) - 2|S|² det⁻³ cof(S); dS/de via S = [e1 e2] B.
-      Eigen::Matrix2d cof;
-      cof << S(1, 1), -S(1, 0), -S(0, 1), S(0, 0);
-      const Eigen::Matrix2d dS = w * (2.0 * (1.0 + 1.0 / (det * det)) * S -
-                                      2.0 * frob / (det * det * det) * cof);
-      // S = [e1 e2] B with B = [[p, -q], [0, q + r]] ⇒ dE/d[e1 e2] = dS Bᵀ.
-      const Eigen::Vector2d g1 = p * dS.col(0) - q * dS.col(1);
-      const Eigen::Vector2d g2 = (q + r) * dS.col(1);
-      gradient->row(F(f, 1)) += g1.transpose();
-      gradient->row(F(f, 2)) += g2.transpose();
-      gradient->row(F(f, 0)) -= (g1 + g2).transpose();
-    }
+  Eigen::Vector2d g[3];
+  for (Index f = 0; f < Index(F.rows()); ++f) {
+    const double e = face_isometric_energy(factors.factors(f, 0), factors.factors(f, 1),
+                                           factors.factors(f, 2), factors.area[f], uv.row(F(f, 0)),
+                                           uv.row(F(f, 1)), uv.row(F(f, 2)), gradient ? g : nullptr);
+    if (!std::isfinite(e)) return kInfinity;
+    total += e;
+    if (gradient)
+      for (int k = 0; k < 3; ++k) gradient->row(F(f, k)) += g[k].transpose();
   }
-  return inverted ? kInfinity : total;
+  return total;
 }
 
 double max_feasible_step(const MatrixX3i& F, const MatrixX2d& uv, const MatrixX2d& d) {
   double best = kInfinity;
-  for (Index f = 0; f < Index(F.rows()); ++f) {
-    const Eigen::Vector2d e1 = uv.row(F(f, 1)) - uv.row(F(f, 0));
-    const Eigen::Vector2d e2 = uv.row(F(f, 2)) - uv.row(F(f, 0));
-    const Eigen::Vector2d f1 = d.row(F(f, 1)) - d.row(F(f, 0));
-    const Eigen::Vector2d f2 = d.row(F(f, 2)) - d.row(F(f, 0));
-    // det(e1 + t f1, e2 + t f2) = c + b t + a t².
-    const double c = cross2(e1, e2);
-    const double b = cross2(e1, f2) + cross2(f1, e2);
-    const double a = cross2(f1, f2);
-    best = std::min(best, first_positive_root(a, b, c));
-  }
+  for (Index f = 0; f < Index(F.rows()); ++f)
+    best = std::min(best, face_first_inversion(uv.row(F(f, 0)), uv.row(F(f, 1)), uv.row(F(f, 2)),
+                                               d.row(F(f, 0)), d.row(F(f, 1)), d.row(F(f, 2))));
   return best;
 }
 

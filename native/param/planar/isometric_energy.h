@@ -12,6 +12,9 @@
 // keeps a descent from a fold-free map fold-free).
 #pragma once
 
+#include <Eigen/Dense>
+#include <limits>
+
 #include "mesh/types.h"
 
 namespace paramorph::planar {
@@ -22,12 +25,46 @@ struct IsometricFactors {
   VectorXd area;  ///< #F 3D areas (the weights)
 };
 
+/// One face's isometric energy area·η and, when `g` is given, its gradient
+/// with respect to the face's three uv corners (g[0..2]); +inf (g untouched)
+/// when det(S) <= 0. The arithmetic every backend runs (kernels/planar.cl
+/// repeats it in OpenCL C).
+inline double face_isometric_energy(double p, double q, double r, double area,
+                                    const Eigen::Vector2d& u0, const Eigen::Vector2d& u1,
+                                    const Eigen::Vector2d& u2, Eigen::Vector2d* g = nullptr) {
+  const Eigen::Vector2d e1 = u1 - u0, e2 = u2 - u0;
+  Eigen::Matrix2d S;
+  S.col(0) = p * e1;
+  S.col(1) = (q + r) * e2 - q * e1;
+  const double det = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
+  if (!(det > 0.0)) return std::numeric_limits<double>::infinity();
+  const double frob = S.squaredNorm(), inv_det2 = 1.0 / (det * det);
+  if (g) {
+    // dη/dS = 2S(1 + det⁻²) - 2|S|² det⁻³ cof(S); S = [e1 e2] B with
+    // B = [[p, -q], [0, q + r]], so dE/d[e1 e2] = dS Bᵀ.
+    Eigen::Matrix2d cof;
+    cof << S(1, 1), -S(1, 0), -S(0, 1), S(0, 0);
+    const Eigen::Matrix2d dS = area * (2.0 * (1.0 + inv_det2) * S - 2.0 * frob * inv_det2 / det * cof);
+    g[1] = p * dS.col(0) - q * dS.col(1);
+    g[2] = (q + r) * dS.col(1);
+    g[0] = -(g[1] + g[2]);
+  }
+  return area * frob * (1.0 + inv_det2);
+}
+
+/// Smallest t > 0 with det(e1 + t f1, e2 + t f2) = 0 for a face with corner
+/// positions u and displacements d (det > 0 at t = 0); +inf if none.
+double face_first_inversion(const Eigen::Vector2d& u0, const Eigen::Vector2d& u1,
+                            const Eigen::Vector2d& u2, const Eigen::Vector2d& d0,
+                            const Eigen::Vector2d& d1, const Eigen::Vector2d& d2);
+
 /// Factors from the 3D mesh. V: #V by 3, F: #F by 3 (non-degenerate faces).
 IsometricFactors isometric_factors(const MatrixX3d& V, const MatrixX3i& F);
 
 /// Σ area_f · η_f for the map uv (#V by 2); +inf when a face is inverted or
 /// degenerate. When `gradient` is given it receives dE/duv (#V by 2; left
-/// unspecified when the energy is infinite).
+/// unspecified when the energy is infinite). Serial reference; solvers use
+/// IsometricKernels (param/planar/isometric_kernels.h).
 double isometric_energy(const IsometricFactors& factors, const MatrixX3i& F,
                         const MatrixX2d& uv, MatrixX2d* gradient = nullptr);
 

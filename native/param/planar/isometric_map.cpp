@@ -5,11 +5,13 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "compute/select_backend.h"
 #include "mesh/cotangent_weights.h"
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
 #include "param/planar/initial_maps.h"
 #include "param/planar/isometric_energy.h"
+#include "param/planar/isometric_kernels.h"
 #include "param/planar/laplacian_preconditioner.h"
 #include "param/planar/untangle.h"
 
@@ -121,6 +123,12 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
 
   PlanarMapResult result;
   const IsometricFactors factors = isometric_factors(V, F);
+  const auto kernels = compute::select_backend(
+      o.backend, [&] { return make_cpu_isometric_kernels(mesh, factors); },
+      [&](std::string& why) { return make_opencl_isometric_kernels(mesh, factors, why); },
+      result.backend_note);
+  result.backend = kernels->backend();
+  result.device = kernels->device();
   const double surface_area = factors.area.sum();
 
   // Start.
@@ -197,7 +205,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   };
   const EnergyFunction energy = [&](const VectorXd& x, VectorXd* g) {
     scatter(x);
-    double e = isometric_energy(factors, F, full, g ? &grad : nullptr);
+    double e = kernels->energy(full, g ? &grad : nullptr);
     if (!std::isfinite(e)) return e;
     for (Index k : o.soft) {
       const Eigen::RowVector2d d = full.row(k) - soft_target.row(k);
@@ -214,7 +222,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   const StepBound bound = [&](const VectorXd& x, const VectorXd& d) {
     scatter(x);
     for (Index i = 0; i < nf; ++i) direction.row(free.vertices[i]) << d[2 * i], d[2 * i + 1];
-    return max_feasible_step(F, full, direction);
+    return kernels->max_feasible_step(full, direction);
   };
   VectorXd x(2 * nf);
   for (Index i = 0; i < nf; ++i) x.segment<2>(2 * i) = uv.row(free.vertices[i]).transpose();

@@ -9,7 +9,9 @@
 //   4. L-BFGS on the isometric energy (2.19) + soft-pin penalty, each step
 //      bounded by the first inversion, so the map stays fold-free.
 //
-// Status: C++ backend only; the OpenCL gradient kernels (2.3.2) are to come.
+// The energy, gradient and step bound run on IsometricKernels (C++ or
+// OpenCL, 2.3.2); starts, untangling and the Laplacian solve of L-BFGS's H0
+// run on the host.
 #pragma once
 
 #include <optional>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "common/progress.h"
+#include "compute/device.h"
 #include "mesh/types.h"
 #include "param/planar/lbfgs.h"
 
@@ -36,6 +39,7 @@ struct PlanarMapOptions {
   int max_iterations = 1000;
   double tol = 1e-8;                    ///< relative gradient norm
   bool allow_folds = false;
+  compute::Backend backend = compute::Backend::Auto;
 };
 
 /// Distortion of the final map after scaling its area to the 3D area
@@ -53,7 +57,8 @@ struct PlanarMapResult {
   int iterations = 0, energy_evaluations = 0, gradient_evaluations = 0;
   int untangle_iterations = 0;
   std::vector<double> energy_history;
-  std::string stop_reason, init, backend = "cpu";
+  std::string stop_reason, init;
+  std::string backend, device, backend_note;  ///< what ran; why "auto" fell back
   PlanarMetrics metrics;
   double seconds = 0.0;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "compute/select_backend.h"
 #include "mesh/reorder.h"
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
@@ -37,18 +38,6 @@ class StageClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-std::unique_ptr<SphereKernels> select_kernels(compute::Backend backend, const SpringGraph& graph,
-                                              const MatrixX3i& F, std::string& note) {
-  if (backend == compute::Backend::Cpu) return make_cpu_kernels(graph, F);
-  std::string why;
-  auto kernels = make_opencl_kernels(graph, F, why);
-  if (kernels) return kernels;
-  PM_REQUIRE(backend != compute::Backend::OpenCL, ComputeError,
-             "backend=\"opencl\" requested but unavailable: ", why);
-  note = "OpenCL unavailable (" + why + "), used the C++ backend";
-  return make_cpu_kernels(graph, F);
-}
-
 void normalize_rows(MatrixX3d& X) { X.rowwise().normalize(); }
 
 }  // namespace
@@ -79,7 +68,10 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   clock.mark("reorder");
 
   const SpringGraph graph = build_spring_graph(mesh, edge_weights(mesh, options.weights));
-  auto kernels = select_kernels(options.backend, graph, mesh.F(), result.backend_note);
+  auto kernels = compute::select_backend(
+      options.backend, [&] { return make_cpu_kernels(graph, mesh.F()); },
+      [&](std::string& why) { return make_opencl_kernels(graph, mesh.F(), why); },
+      result.backend_note);
   result.backend = kernels->backend();
   result.device = kernels->device();
   result.weights = to_string(options.weights);
