@@ -107,13 +107,15 @@ void bind_planar(py::module_& m) {
       py::arg("V"), py::arg("F"), py::kw_only(), py::arg("pinned") = py::none(),
       py::arg("pinned_uv") = py::none(), py::arg("soft") = py::none(),
       py::arg("soft_uv") = py::none(), py::arg("soft_weight") = 100.0, py::arg("init") = "auto",
-      py::arg("max_iterations") = 1000, py::arg("tol") = 1e-8, py::arg("backend") = "auto",
+      py::arg("max_iterations") = 1000, py::arg("tol") = 1e-6, py::arg("backend") = "auto",
       py::arg("allow_folds") = false, py::arg("progress") = py::none(),
       R"doc(Fold-free isometric map of an open genus-0 patch to the plane (thesis ch. 2).
 
 pinned (k,) indices with pinned_uv (k, 2): hard constraints, met exactly.
 soft / soft_uv / soft_weight: quadratic-penalty constraints.
 init: "auto" (free boundary), "tutte" (boundary on a circle), "free" (LSCM) or an (n, 2) array.
+Hard pins are blended into the start smoothly (similarity fit, then a biharmonic displacement).
+tol: stop when the energy fell by less than tol (relative) over the last 10 iterations.
 A folded start is untangled first (Algorithm 2); folds that cannot be removed raise
 ConstraintError unless allow_folds=True. Raises NotOpenError for a closed mesh,
 NotGenusZeroError for a patch with handles.

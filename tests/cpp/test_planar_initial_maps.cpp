@@ -1,6 +1,7 @@
 // Starting maps of the planar solver: Tutte on a circle, LSCM with two pins.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "mesh/tri_mesh.h"
@@ -67,4 +68,36 @@ TEST(InitialMaps, ClosedMeshIsRejected) {
   MatrixX3i F(4, 3);
   F << 0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2;
   EXPECT_THROW(tutte_map(TriMesh(V, F)), NotClosedError);
+}
+
+TEST(BlendPins, SparsePinsOfASmoothWarpLeaveNoFoldsAndFollowTheWarp) {
+  // Tutte map twisted by up to 45° about its centre; boundary + every 37th
+  // vertex pinned on the twist. Harmonic interpolation between such sparse
+  // point pins spikes at each pin; the biharmonic blend has no spikes.
+  const TriMesh mesh = bumpy_disc(30, 120, 0.3);
+  const MatrixX2d tutte = tutte_map(mesh);
+  const Index n = mesh.num_vertices();
+  MatrixX2d warped(n, 2);
+  for (Index v = 0; v < n; ++v) {
+    const Eigen::Vector2d p = tutte.row(v);
+    const double theta = 0.25 * M_PI * std::clamp((1.0 - p.norm()) / 0.5, 0.0, 1.0);
+    warped.row(v) << std::cos(theta) * p.x() - std::sin(theta) * p.y(),
+        std::sin(theta) * p.x() + std::cos(theta) * p.y();
+  }
+  ASSERT_TRUE(folded_faces(mesh.F(), warped).empty());
+  std::vector<char> pinned(n, 0);
+  for (const auto& loop : mesh.boundary_loops())
+    for (Index v : loop) pinned[v] = 1;
+  for (Index v = 0; v < n; v += 37) pinned[v] = 1;
+
+  const MatrixX2d blended = blend_pins(mesh, tutte, pinned, warped);
+  for (Index v = 0; v < n; ++v)
+    if (pinned[v]) EXPECT_EQ(blended.row(v), warped.row(v)) << v;  // exact
+  EXPECT_TRUE(folded_faces(mesh.F(), blended).empty());
+  MatrixX2d dropped = tutte;  // pins dropped in, the rest harmonic
+  for (Index v = 0; v < n; ++v)
+    if (pinned[v]) dropped.row(v) = warped.row(v);
+  const MatrixX2d harmonic = harmonic_fill(mesh, VectorXd::Ones(mesh.edges().rows()), pinned, dropped);
+  // Each dropped-in pin pulls a spike into its 1-ring: the harmonic start folds.
+  EXPECT_GT(folded_faces(mesh.F(), harmonic).size(), 10u);
 }

@@ -40,7 +40,8 @@ def twist(points, center, radius):
     return center + np.column_stack([c * d[:, 0] - s * d[:, 1], s * d[:, 0] + c * d[:, 1]])
 
 
-def test_twist_pins_are_exact_and_fold_free():
+@pytest.mark.parametrize("init", ["tutte", "free", "given"])
+def test_twist_pins_are_exact_and_fold_free(init):
     V, F = planar_meshes.bumpy_disc(16, 64)
     tutte = pm.isometric_map(V, F, init="tutte", max_iterations=0, backend="cpu").uv
     center = tutte.mean(axis=0)
@@ -52,7 +53,8 @@ def test_twist_pins_are_exact_and_fold_free():
     interior = np.setdiff1d(np.arange(len(V)), boundary)
     chosen = rng.choice(interior, size=int(0.05 * len(V)) + 1, replace=False)
     pins = np.concatenate([boundary, chosen])
-    result = pm.isometric_map(V, F, pinned=pins, pinned_uv=warped[pins], init="tutte",
+    start = tutte if init == "given" else init
+    result = pm.isometric_map(V, F, pinned=pins, pinned_uv=warped[pins], init=start,
                               backend="cpu")
     assert folded(result.uv, F).size == 0 and result.flipped == 0
     assert np.array_equal(result.uv[pins], warped[pins])  # exact, not approximately

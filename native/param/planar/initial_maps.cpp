@@ -2,6 +2,7 @@
 
 #include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
 #include <Eigen/MetisSupport>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -41,6 +42,56 @@ MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vecto
   const Eigen::MatrixXd Y = solver.solve(rhs);
   for (Index v : free.vertices) X.row(v) = Y.row(free.slot[v]);
   return X;
+}
+
+MatrixX2d blend_pins(const TriMesh& mesh, const MatrixX2d& start, const std::vector<char>& pinned,
+                     const MatrixX2d& targets) {
+  const Index n = mesh.num_vertices();
+  const FreeVertices free = free_vertices(pinned);
+  MatrixX2d out = start;
+  for (Index v = 0; v < n; ++v)
+    if (pinned[v]) out.row(v) = targets.row(v);
+  if (free.vertices.size() == std::size_t(n) || free.vertices.empty()) return out;
+
+  // Full Laplacian (every vertex free) and lumped areas.
+  const Eigen::SparseMatrix<double> L = Eigen::SparseMatrix<double>(
+      free_laplacian(mesh, clamped_cotangent_weights(mesh), free_vertices(std::vector<char>(n, 0)))
+          .selfadjointView<Eigen::Lower>());
+  VectorXd inverse_area = VectorXd::Zero(n);
+  const MatrixX3d& V = mesh.V();
+  const MatrixX3i& F = mesh.F();
+  for (Index f = 0; f < mesh.num_faces(); ++f) {
+    const double area = 0.5 * (V.row(F(f, 1)) - V.row(F(f, 0)))
+                                  .cross(V.row(F(f, 2)) - V.row(F(f, 0)))
+                                  .norm();
+    for (int k = 0; k < 3; ++k) inverse_area[F(f, k)] += area / 3.0;
+  }
+  inverse_area = inverse_area.cwiseInverse();
+  const Eigen::SparseMatrix<double> Q = L * inverse_area.asDiagonal() * L;
+
+  // Q_ff D_f = -Q_fp D_p.
+  const Index nf = Index(free.vertices.size());
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nf, 2);
+  for (Index col = 0; col < Q.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(Q, col); it; ++it) {
+      const Index row = free.slot[it.row()];
+      if (row < 0) continue;
+      const Index c = free.slot[col];
+      if (c >= 0) {
+        if (c <= row) triplets.emplace_back(row, c, it.value());
+      } else {
+        rhs.row(row) -= it.value() * (targets.row(col) - start.row(col));
+      }
+    }
+  Eigen::SparseMatrix<double> A(nf, nf);
+  A.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> llt(A);
+  PM_REQUIRE(llt.info() == Eigen::Success, DisconnectedError,
+             "the pin blending system is singular: a part of the mesh holds no pin");
+  const Eigen::MatrixXd D = llt.solve(rhs);
+  for (Index v : free.vertices) out.row(v) += D.row(free.slot[v]);
+  return out;
 }
 
 MatrixX2d tutte_map(const TriMesh& mesh) {

@@ -3,6 +3,7 @@
 // tutte_map: the longest boundary loop on the unit circle (spaced by edge
 //   length), interior vertices as positive-weight averages of their neighbours
 //   (clamped cotangent weights): fold-free for a disc (Tutte/Floater).
+// blend_pins: moves a start onto hard pins smoothly (before untangling).
 // lscm_map: free boundary, least-squares conformal map (conformal energy =
 //   Dirichlet energy minus the boundary's signed area) with two boundary
 //   vertices pinned, true cotangent weights, solved with a sparse LDLᵀ.
@@ -18,6 +19,16 @@ namespace paramorph::planar {
 /// edge weights w (#E, positive for Floater's guarantee); pinned rows of X kept.
 MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vector<char>& pinned,
                         MatrixX2d X);
+
+/// `start` moved so every pinned vertex lands exactly on its row of
+/// `targets` (#V by 2; only pinned rows are read), by the smoothest
+/// displacement: D = argmin ∫|ΔD|² (bi-Laplacian L M⁻¹ L, clamped cotangent
+/// L with natural boundary conditions, lumped areas M) with D = target - start
+/// at the pins. Unlike harmonic interpolation, a biharmonic field has no
+/// spike at a point constraint, so sparse interior pins that follow a smooth
+/// warp leave few or no folds for untangling.
+MatrixX2d blend_pins(const TriMesh& mesh, const MatrixX2d& start, const std::vector<char>& pinned,
+                     const MatrixX2d& targets);
 
 /// #V by 2. Needs at least one boundary loop.
 MatrixX2d tutte_map(const TriMesh& mesh);

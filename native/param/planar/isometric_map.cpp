@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
+#include <complex>
 
 #include "common/errors.h"
 #include "compute/select_backend.h"
@@ -70,6 +71,33 @@ void match_area(const MatrixX3i& F, double surface_area, MatrixX2d& uv) {
     area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
   }
   if (area > 0) uv *= std::sqrt(surface_area / area);
+}
+
+/// uv moved by the similarity z -> a z + b (complex a, b) that best fits the
+/// pinned rows to their targets in least squares; a translation for one pin.
+MatrixX2d fit_similarity(const MatrixX2d& uv, const std::vector<Index>& pins,
+                         const MatrixX2d& targets) {
+  using C = std::complex<double>;
+  const double k = double(pins.size());
+  C mean_z = 0, mean_t = 0;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    mean_z += C(uv(pins[i], 0), uv(pins[i], 1)) / k;
+    mean_t += C(targets(i, 0), targets(i, 1)) / k;
+  }
+  C cross = 0;
+  double spread = 0;
+  for (std::size_t i = 0; i < pins.size(); ++i) {
+    const C z = C(uv(pins[i], 0), uv(pins[i], 1)) - mean_z;
+    cross += std::conj(z) * (C(targets(i, 0), targets(i, 1)) - mean_t);
+    spread += std::norm(z);
+  }
+  const C a = spread > 0 ? cross / spread : C(1.0);
+  MatrixX2d out(uv.rows(), 2);
+  for (Index v = 0; v < Index(uv.rows()); ++v) {
+    const C w = a * (C(uv(v, 0), uv(v, 1)) - mean_z) + mean_t;
+    out.row(v) << w.real(), w.imag();
+  }
+  return out;
 }
 
 }  // namespace
@@ -149,17 +177,28 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   }
   if (init != PlanarInit::Given && o.pinned.empty()) match_area(F, surface_area, uv);
   std::vector<char> fixed(n, 0);
+  MatrixX2d targets = MatrixX2d::Zero(n, 2);
   for (std::size_t k = 0; k < o.pinned.size(); ++k) {
-    uv.row(o.pinned[k]) = o.pinned_uv.row(k);
+    targets.row(o.pinned[k]) = o.pinned_uv.row(k);
     fixed[o.pinned[k]] = 1;
   }
-  // With the whole boundary pinned, interior pins join the Dirichlet data of a
-  // fresh Tutte solve: vertices between pins follow them smoothly, leaving far
-  // fewer folds to untangle than pins dropped into an unrelated start.
-  bool boundary_pinned = !o.pinned.empty() && init != PlanarInit::Given;
-  for (const auto& loop : mesh.boundary_loops())
-    for (Index v : loop) boundary_pinned = boundary_pinned && fixed[v];
-  if (boundary_pinned) uv = harmonic_fill(mesh, clamped_cotangent_weights(mesh), fixed, uv);
+  if (!o.pinned.empty()) {
+    // Bring the start to the pins: first as a whole (least-squares similarity,
+    // so its scale and orientation match theirs), then each pin exactly by
+    // the smoothest displacement field. With the whole boundary pinned a
+    // computed start is re-solved inside that boundary first (Tutte).
+    if (init != PlanarInit::Given) uv = fit_similarity(uv, o.pinned, o.pinned_uv);
+    std::vector<char> on_boundary(n, 0);
+    bool boundary_pinned = init != PlanarInit::Given;
+    for (const auto& loop : mesh.boundary_loops())
+      for (Index v : loop) boundary_pinned = boundary_pinned && fixed[v], on_boundary[v] = 1;
+    if (boundary_pinned) {
+      for (Index v = 0; v < n; ++v)
+        if (on_boundary[v]) uv.row(v) = targets.row(v);
+      uv = harmonic_fill(mesh, clamped_cotangent_weights(mesh), on_boundary, uv);
+    }
+    uv = blend_pins(mesh, uv, fixed, targets);
+  }
   if (progress) progress->report(0.05, "untangle");
 
   // Untangle (Algorithm 2) when the start folds.
@@ -228,7 +267,9 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   for (Index i = 0; i < nf; ++i) x.segment<2>(2 * i) = uv.row(free.vertices[i]).transpose();
   LbfgsOptions lo;
   lo.max_iterations = o.max_iterations;
-  lo.gradient_tol = o.tol;
+  lo.energy_tol = o.tol;
+  lo.energy_window = 10;
+  lo.gradient_tol = 1e-3 * o.tol;
   LbfgsResult lr;
   if (nf > 0) {
     VectorXd penalty_diagonal = 2.0 * soft_scale;  // the soft pins' exact Hessian

@@ -37,7 +37,9 @@ struct PlanarMapOptions {
   MatrixX2d soft_uv;
   double soft_weight = 100.0;
   int max_iterations = 1000;
-  double tol = 1e-8;                    ///< relative gradient norm
+  /// Converged when the energy fell by less than tol (relative) over the
+  /// last 10 iterations, or the gradient norm by a factor 1e-3 · tol.
+  double tol = 1e-6;
   bool allow_folds = false;
   compute::Backend backend = compute::Backend::Auto;
 };

@@ -111,7 +111,7 @@ class LineSearch {
 LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_step, VectorXd& x,
                            const LbfgsOptions& o, ProgressWindow progress,
                            const LbfgsPreconditioner& preconditioner) {
-  PM_REQUIRE(o.memory > 0 && o.max_iterations >= 0 && o.feasible_fraction > 0 &&
+  PM_REQUIRE(o.memory > 0 && o.max_iterations >= 0 && o.energy_window >= 1 && o.feasible_fraction > 0 &&
                  o.feasible_fraction < 1 && 0 < o.wolfe_c1 && o.wolfe_c1 < o.wolfe_c2 &&
                  o.wolfe_c2 < 1,
              InvalidInputError, "invalid L-BFGS options");
@@ -174,14 +174,15 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
       pairs.emplace_back(std::move(s), std::move(y));
       if (int(pairs.size()) > o.memory) pairs.pop_front();
     }
-    const double decrease = (f - f_next) / std::max(std::abs(f), 1e-300);
     x.swap(x_next);
     g.swap(g_next);
     f = f_next;
     ++result.iterations;
     result.energy_history.push_back(f);
     progress.report(double(result.iterations) / o.max_iterations, "l-bfgs");
-    if (decrease < o.energy_tol) {
+    const int k = result.iterations;  // energy_history[k] is f
+    if (k >= o.energy_window &&
+        result.energy_history[k - o.energy_window] - f < o.energy_tol * std::abs(f)) {
       result.stop_reason = "energy";
       break;
     }

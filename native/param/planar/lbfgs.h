@@ -22,7 +22,11 @@ struct LbfgsOptions {
   int memory = 7;                 ///< stored (s, y) pairs, 5–10 in the thesis
   int max_iterations = 1000;
   double gradient_tol = 1e-8;     ///< stop when |g| <= gradient_tol * max(1, |g0|)
-  double energy_tol = 1e-12;      ///< stop when the relative decrease of one step is below
+  /// Stop when the energy fell by less than energy_tol (relative) over the
+  /// last energy_window steps: one step alone can be short (a line search
+  /// that had to stop before an inversion) without the descent being over.
+  double energy_tol = 1e-12;
+  int energy_window = 1;
   double wolfe_c1 = 1e-4;         ///< sufficient decrease
   double wolfe_c2 = 0.9;          ///< curvature (strong Wolfe)
   double feasible_fraction = 0.95;  ///< steps stay below this fraction of the first inversion
