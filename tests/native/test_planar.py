@@ -156,3 +156,24 @@ def test_genus_one_patch_is_rejected():
         pytest.skip(f"cut did not keep the handle (genus {report.genus})")
     with pytest.raises(pm.NotGenusZeroError, match="genus 1"):
         pm.isometric_map(V[used], remap[cut].astype(np.int32))
+
+
+def test_metrics_follow_the_thesis_tables_definitions():
+    # A flat grid mapped by (x, y) -> (2x, y/2): every face has σ = (2, 1/2),
+    # so the area is kept (σ1σ2 = 1) and the stretch is known in closed form.
+    i, j = np.meshgrid(np.arange(9), np.arange(7), indexing="ij")
+    V = np.column_stack([i.ravel() / 8.0, j.ravel() / 8.0, np.zeros(i.size)])
+    idx = lambda a, b: a * 7 + b  # noqa: E731
+    F = np.array([f for a in range(8) for b in range(6)
+                  for f in ([idx(a, b), idx(a + 1, b), idx(a + 1, b + 1)],
+                            [idx(a, b), idx(a + 1, b + 1), idx(a, b + 1)])], dtype=np.int32)
+    stretched = V[:, :2] * [2.0, 0.5]
+    m = pm.isometric_map(V, F, init=stretched, max_iterations=0, backend="cpu").metrics
+    l2 = np.sqrt((4.0 + 0.25) / 2.0)
+    expected = dict(area_min=1.0, area_max=1.0, area_rms=0.0, angular=3.0, l2_min=l2, l2_max=l2,
+                    l2_rms=l2 - 1.0, symmetric_dirichlet=4.0 + 0.25 + 0.25 + 4.0)
+    for name, value in expected.items():
+        assert m[name] == pytest.approx(value, abs=1e-9), name
+    identity = pm.isometric_map(V, F, init=V[:, :2] * 3.0, max_iterations=0, backend="cpu").metrics
+    assert identity["symmetric_dirichlet"] == pytest.approx(4.0)  # scale is normalised away
+    assert identity["l2_rms"] == pytest.approx(0.0, abs=1e-9)

@@ -15,6 +15,7 @@
 #include "param/planar/isometric_kernels.h"
 #include "param/planar/laplacian_preconditioner.h"
 #include "param/planar/untangle.h"
+#include "param/planar/untangle_continuation.h"
 
 namespace paramorph::planar {
 
@@ -126,7 +127,7 @@ PlanarMetrics planar_metrics(const MatrixX3d& V, const MatrixX3i& F, const Matri
     total += w;
     area_sq += w * (ratio - 1.0) * (ratio - 1.0);
     angular += w * (s[1] > 0 ? s[0] / s[1] - 1.0 : std::numeric_limits<double>::infinity());
-    l2_sq += w * l2 * l2;
+    l2_sq += w * (l2 - 1.0) * (l2 - 1.0);
     sd += w * (s[0] * s[0] + s[1] * s[1] + 1.0 / (s[0] * s[0]) + 1.0 / (s[1] * s[1]));
   }
   m.area_rms = std::sqrt(area_sq / total);
@@ -203,14 +204,19 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
 
   // Untangle (Algorithm 2) when the start folds.
   if (!folded_faces(F, uv).empty()) {
-    const UntangleResult u = untangle(F, uv, fixed, {}, ProgressWindow(progress, 0.05, 0.2));
+    const UntangleResult u = untangle(F, uv, fixed, {}, ProgressWindow(progress, 0.05, 0.1));
     result.untangle_iterations = u.iterations;
-    if (u.folded > 0) {
-      PM_REQUIRE(o.allow_folds, ConstraintError, u.folded,
+    // Where Algorithm 2 stalled or left slivers: ε-continuation from its result.
+    const ContinuationResult c =
+        untangle_continuation(factors, F, uv, fixed, {}, ProgressWindow(progress, 0.1, 0.2));
+    result.untangle_iterations += c.iterations;
+    const Index folded = c.folded;
+    if (folded > 0) {
+      PM_REQUIRE(o.allow_folds, ConstraintError, folded,
                  " faces stay folded after untangling: the pins cannot all be met without "
                  "folds (move them apart, or pass allow_folds=True for the best map)");
       result.uv = uv;
-      result.flipped = u.folded;
+      result.flipped = folded;
       result.stop_reason = "folded";
       result.metrics = planar_metrics(V, F, uv);
       result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -127,6 +127,7 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
   std::vector<double> alpha(o.memory);
   LineSearch search(energy, o, result);
   VectorXd d, x_next, g_next;
+  bool plain_gradient = false;  // this step ignores the preconditioner (a fallback)
   double pair_scale = 1.0;  // sᵀPs / sᵀy of the newest pair, with a preconditioner
   result.stop_reason = "max_iterations";
   while (result.iterations < o.max_iterations) {
@@ -140,7 +141,7 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
       alpha[i] = pairs[i].first.dot(d) / pairs[i].second.dot(pairs[i].first);
       d -= alpha[i] * pairs[i].second;
     }
-    if (preconditioner.apply) {
+    if (preconditioner.apply && !plain_gradient) {
       preconditioner.apply(d);
       if (!pairs.empty()) d *= pair_scale;
     } else if (!pairs.empty()) {
@@ -161,13 +162,18 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
     const double t_cap = o.feasible_fraction * max_step(x, d);
     double f_next = 0.0;
     if (!(t_cap > 0.0) || !search.run(x, d, {0.0, f, slope}, t_cap, x_next, g_next, f_next)) {
-      if (pairs.empty()) {
+      // Retry from the last resort first: without pairs, then (when
+      // preconditioned) the plain gradient, whose first steps are tiny but
+      // safe where a barrier makes the Laplacian's shape misleading.
+      if (pairs.empty() && (plain_gradient || !preconditioner.apply)) {
         result.stop_reason = "line_search";
         break;
       }
-      pairs.clear();  // retry once more from steepest descent
+      plain_gradient = pairs.empty();
+      pairs.clear();
       continue;
     }
+    plain_gradient = false;
     VectorXd s = x_next - x, y = g_next - g;
     if (s.dot(y) > 1e-16 * s.norm() * y.norm()) {  // keep H positive definite
       if (preconditioner.quadratic) pair_scale = preconditioner.quadratic(s) / s.dot(y);
