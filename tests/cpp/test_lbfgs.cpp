@@ -174,3 +174,35 @@ TEST(Lbfgs, HessianShapedPreconditionerRemovesIllConditioning) {
   EXPECT_LT((x_shaped - exact).norm(), 1e-6 * exact.norm());
   EXPECT_TRUE(non_increasing(preconditioned.energy_history));
 }
+
+TEST(Lbfgs, GradientReferenceReplacesTheStartingGradient) {
+  // Far out on Rosenbrock's valley |g0| is ~1e7: relative to it the
+  // gradient test passes long before the minimum; relative to a reference
+  // of the problem's own scale it does not.
+  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
+    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
+    if (g) {
+      g->resize(2);
+      *g << -2 * a - 400 * x[0] * b, 200 * b;
+    }
+    return a * a + 100 * b * b;
+  };
+  LbfgsOptions o;
+  o.gradient_tol = 1e-6;
+  o.energy_tol = 0.0;
+  o.max_iterations = 5000;
+  VectorXd relative(2), referenced(2), g(2);
+  relative << -30.0, 1.0;
+  referenced = relative;
+  rosenbrock(relative, &g);
+  ASSERT_GT(g.norm(), 1e6);
+  const LbfgsResult a = minimize_lbfgs(rosenbrock, kUnbounded, relative, o);
+  o.gradient_reference = 1.0;
+  const LbfgsResult b = minimize_lbfgs(rosenbrock, kUnbounded, referenced, o);
+  EXPECT_EQ(a.stop_reason, "gradient");
+  EXPECT_EQ(b.stop_reason, "gradient");
+  rosenbrock(referenced, &g);
+  EXPECT_LE(g.norm(), 1e-6);
+  EXPECT_NEAR(referenced[0], 1.0, 1e-5);
+  EXPECT_GT(b.iterations, a.iterations);
+}

@@ -207,8 +207,12 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
     const UntangleResult u = untangle(F, uv, fixed, {}, ProgressWindow(progress, 0.05, 0.1));
     result.untangle_iterations = u.iterations;
     // Where Algorithm 2 stalled or left slivers: ε-continuation from its result.
+    const FreeVertices movable = free_vertices(fixed);
+    const LaplacianPreconditioner laplacian(mesh, movable, VectorXd());
     const ContinuationResult c =
-        untangle_continuation(factors, F, uv, fixed, {}, ProgressWindow(progress, 0.1, 0.2));
+        untangle_continuation(factors, F, uv, fixed, {}, ProgressWindow(progress, 0.1, 0.2),
+                              movable.vertices.empty() ? LbfgsPreconditioner{}
+                                                       : laplacian_lbfgs_preconditioner(laplacian));
     result.untangle_iterations += c.iterations;
     const Index folded = c.folded;
     if (folded > 0) {
@@ -276,13 +280,16 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   lo.energy_tol = o.tol;
   lo.energy_window = 10;
   lo.gradient_tol = 1e-3 * o.tol;
+  // |g| in the energy's own units, not |g0|'s (a squeezed LSCM start of a
+  // bunny patch has |g0| ~1e6 times that): the gradient at which moving every
+  // free vertex by an edge length would change E by the surface area.
+  lo.gradient_reference = surface_area / (mean_edge * std::sqrt(double(std::max<Index>(1, nf))));
   LbfgsResult lr;
   if (nf > 0) {
     VectorXd penalty_diagonal = 2.0 * soft_scale;  // the soft pins' exact Hessian
     const LaplacianPreconditioner laplacian(mesh, free, penalty_diagonal);
-    LbfgsPreconditioner preconditioner{[&](VectorXd& q) { laplacian.apply(q); },
-                                       [&](const VectorXd& s) { return laplacian.quadratic(s); }};
-    lr = minimize_lbfgs(energy, bound, x, lo, ProgressWindow(progress, 0.2, 1.0), preconditioner);
+    lr = minimize_lbfgs(energy, bound, x, lo, ProgressWindow(progress, 0.2, 1.0),
+                        laplacian_lbfgs_preconditioner(laplacian));
   }
   scatter(x);
   result.uv = full;

@@ -88,4 +88,9 @@ double LaplacianPreconditioner::quadratic(const VectorXd& s) const {
   return (S.array() * PS.array()).sum();
 }
 
+LbfgsPreconditioner laplacian_lbfgs_preconditioner(const LaplacianPreconditioner& laplacian) {
+  return {[&laplacian](VectorXd& q) { laplacian.apply(q); },
+          [&laplacian](const VectorXd& s) { return laplacian.quadratic(s); }};
+}
+
 }  // namespace paramorph::planar

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mesh/tri_mesh.h"
+#include "param/planar/lbfgs.h"
 
 namespace paramorph::planar {
 
@@ -49,5 +50,8 @@ class LaplacianPreconditioner {
   Eigen::SparseMatrix<double> lower_;
   std::unique_ptr<Factor> factor_;
 };
+
+/// The L-BFGS hooks (H0 = P⁻¹ shape) of a preconditioner that outlives them.
+LbfgsPreconditioner laplacian_lbfgs_preconditioner(const LaplacianPreconditioner& laplacian);
 
 }  // namespace paramorph::planar

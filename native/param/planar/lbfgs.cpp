@@ -122,7 +122,7 @@ LbfgsResult minimize_lbfgs(const EnergyFunction& energy, const StepBound& max_st
   ++result.gradient_evaluations;
   PM_REQUIRE(std::isfinite(f), ConstraintError, "L-BFGS needs a fold-free start (energy is ", f, ")");
   result.energy_history.push_back(f);
-  const double g0 = std::max(1.0, g.norm());
+  const double g0 = o.gradient_reference > 0 ? o.gradient_reference : std::max(1.0, g.norm());
   std::deque<std::pair<VectorXd, VectorXd>> pairs;  // (s, y), newest last
   std::vector<double> alpha(o.memory);
   LineSearch search(energy, o, result);

@@ -21,7 +21,12 @@ namespace paramorph::planar {
 struct LbfgsOptions {
   int memory = 7;                 ///< stored (s, y) pairs, 5–10 in the thesis
   int max_iterations = 1000;
-  double gradient_tol = 1e-8;     ///< stop when |g| <= gradient_tol * max(1, |g0|)
+  /// Stop when |g| <= gradient_tol * reference, the reference being
+  /// gradient_reference when > 0, else max(1, |g0|). A caller that knows its
+  /// energy's scale should give it: |g0| of a bad start can be 1e6 times
+  /// the gradient of a good map, and relative to it the test passes early.
+  double gradient_tol = 1e-8;
+  double gradient_reference = 0.0;
   /// Stop when the energy fell by less than energy_tol (relative) over the
   /// last energy_window steps: one step alone can be short (a line search
   /// that had to stop before an inversion) without the descent being over.
