@@ -3,14 +3,20 @@
 //
 // A conformal sphere map shrinks protruding parts (limbs, ears) into small
 // regions of the sphere, so their area stretch A (surface share / sphere
-// share, per vertex) is high. Seed candidates are the vertices where A is a
-// local maximum or minimum over their 1-ring; regions grow from them in
-// descending order of A, vertex by vertex in order of closeness to the
-// seed's stretch, while |log A(v) - log A(seed)| <= threshold (log, so the
-// threshold means the same on a finger as on the torso). A candidate taken
-// by an earlier region seeds nothing; vertices no region reached seed new
-// regions in the same order, so every vertex and every face is labelled.
-// Faces take the label most of their corners have.
+// share, per vertex) is high and rises towards the tip. The body's level is
+// the median of log A over the sphere (where extremities weigh almost
+// nothing). Vertices more than `threshold` above it are swept from the top,
+// starting a region at each seed candidate (a local maximum of A, Def. 3.2)
+// and joining every other vertex to the region of its higher neighbours,
+// as water would recede from the peaks. Where growing regions meet, a region
+// whose stretch has fallen by at least `threshold` since its seed (a limb,
+// fully grown) stops; one that varied less (a bump) is absorbed, and the
+// surface further down continues as one region (a palm below the fingers).
+// The rest of the surface (the body) is one region per connected part,
+// grown from its lowest vertex. The threshold is on log A, so it means the
+// same on a finger as on the torso. Finally regions smaller than `min_area`
+// are merged into their neighbour of the nearest mean log A, smallest first
+// (4.5). Runs in O(n log n) after the sphere map.
 #pragma once
 
 #include <optional>
@@ -21,7 +27,11 @@
 namespace paramorph::features {
 
 struct ExtremityOptions {
-  double threshold = 0.7;  ///< largest |log A(v) - log A(seed)| inside a region
+  /// Variation of log A a region must span to stand on its own (1.5 = a
+  /// factor 4.5 of stretch between its seed and where it meets another region).
+  double threshold = 1.5;
+  /// Regions below this share of the surface area are merged away (0 keeps all).
+  double min_area = 0.01;
   /// #V by 3 unit vectors of a fold-free sphere map; computed (conformal
   /// weights) when absent, which needs a closed genus-0 mesh.
   std::optional<MatrixX3d> sphere;
@@ -29,12 +39,14 @@ struct ExtremityOptions {
 
 /// Validates the mesh (closed genus 0 when the sphere is computed; any
 /// manifold mesh with a matching sphere otherwise) and raises the matching
-/// MeshError / InvalidInputError.
+/// MeshError / InvalidInputError. Every face is labelled.
 Segmentation segment_extremities(const MatrixX3d& V, const MatrixX3i& F,
                                  const ExtremityOptions& options = {},
                                  Progress* progress = nullptr);
 
-/// The region growing alone, on given per-vertex stretch values (> 0).
-Segmentation grow_stretch_regions(const TriMesh& mesh, const VectorXd& stretch, double threshold);
+/// The region growing alone, on given per-vertex stretch values (> 0);
+/// min_area is a share of the surface area as in ExtremityOptions.
+Segmentation grow_stretch_regions(const TriMesh& mesh, const VectorXd& stretch, double threshold,
+                                  double min_area = 0.0);
 
 }  // namespace paramorph::features
