@@ -5,18 +5,12 @@
 // regions of the sphere, so their area stretch A (surface share / sphere
 // share, per vertex) is high and rises towards the tip. The body's level is
 // the median of log A over the sphere (where extremities weigh almost
-// nothing). Vertices more than `threshold` above it are swept from the top,
-// starting a region at each seed candidate (a local maximum of A, Def. 3.2)
-// and joining every other vertex to the region of its higher neighbours,
-// as water would recede from the peaks. Where growing regions meet, a region
-// whose stretch has fallen by at least `threshold` since its seed (a limb,
-// fully grown) stops; one that varied less (a bump) is absorbed, and the
-// surface further down continues as one region (a palm below the fingers).
-// The rest of the surface (the body) is one region per connected part,
-// grown from its lowest vertex. The threshold is on log A, so it means the
-// same on a finger as on the torso. Finally regions smaller than `min_area`
-// are merged into their neighbour of the nearest mean log A, smallest first
-// (4.5). Runs in O(n log n) after the sphere map.
+// nothing); the surface more than `threshold` above it is split into
+// extremities by the join-tree sweep of features/peak_regions.h, seeded at
+// the local maxima of A (Def. 3.2) in descending order, and the rest is the
+// body. The threshold is on log A, so it means the same on a finger as on
+// the torso. Regions smaller than `min_area` are then merged into their
+// neighbour of the nearest mean log A, smallest first (4.5).
 #pragma once
 
 #include <optional>

@@ -6,6 +6,7 @@
 
 #include "common/errors.h"
 #include "features/merge_regions.h"
+#include "features/peak_regions.h"
 #include "features/segment_extremities.h"
 #include "param/spherical/sphere_quality.h"
 #include "test_meshes.h"
@@ -149,4 +150,47 @@ TEST(MergeSmallRegions, SmallestGoesToTheNearestDescriptorFirst) {
   EXPECT_EQ(s.seeds[0], 2);  // the absorbing region keeps its seed
   EXPECT_EQ(s.seeds[1], 3);
   EXPECT_THROW(merge_small_regions(mesh, s, Eigen::MatrixXd::Zero(5, 1), 1.0), InvalidInputError);
+}
+
+TEST(PeakRegions, TwoFingersAPalmAndTheBaseEachConnected) {
+  // Along x: base ~0 at both ends, two peaks of 4 joined by a saddle at 2.28.
+  auto [V, F] = test_meshes::bumpy_grid(40);
+  const TriMesh mesh(V, F);
+  VectorXd level(V.rows());
+  for (Index v = 0; v < V.rows(); ++v) {
+    const double x = V(v, 0);
+    level[v] = std::max(4.0 * std::exp(-std::pow((x - 0.35) / 0.2, 2)),
+                        4.0 * std::exp(-std::pow((x - 0.65) / 0.2, 2)));
+  }
+  Segmentation s = peak_regions(mesh, level, 0.0, 1.0);
+  expect_consistent(mesh, s);
+  // The saddle line itself makes slivers of a few faces; merged away here.
+  Eigen::MatrixXd face_level(mesh.num_faces(), 1);
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    face_level(f, 0) = (level[F(f, 0)] + level[F(f, 1)] + level[F(f, 2)]) / 3.0;
+  merge_small_regions(mesh, s, region_means(mesh, s, face_level), 0.01 * s.area.sum());
+  expect_consistent(mesh, s);
+  auto region_near = [&](double x) {
+    Index best = 0;
+    (V.col(0).array() - x).abs().minCoeff(&best);
+    return region_at(mesh, s, best);
+  };
+  const Index finger_a = region_near(0.35), finger_b = region_near(0.65);
+  EXPECT_NE(finger_a, finger_b);
+  // Each finger reaches down to the saddle (x = 0.5) on its inner side only.
+  EXPECT_NE(region_near(0.16), finger_a);
+  EXPECT_NE(region_near(0.84), finger_b);
+  // The flanks below the saddle on both sides and the two base strips: every
+  // region is one connected piece, so 2 fingers + 2 flanks + 2 base strips.
+  EXPECT_NE(region_near(0.1), region_near(0.9));
+  EXPECT_NE(region_near(0.0), region_near(1.0));
+  EXPECT_NE(region_near(0.16), region_near(0.84));
+  EXPECT_EQ(s.regions(), 6);
+  for (Index r = 0; r < s.regions(); ++r) {
+    int seed_faces = 0;
+    const Csr& corners = mesh.vertex_corners();
+    for (Index k = corners.begin(s.seeds[r]); k < corners.end(s.seeds[r]); ++k)
+      seed_faces += s.face_labels[corners.items[k] / 3] == r;
+    EXPECT_GT(seed_faces, 0) << "region " << r << " does not touch its seed";
+  }
 }
