@@ -6,6 +6,7 @@
 
 #include "param/planar/isometric_energy.h"
 #include "param/planar/lbfgs.h"
+#include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::planar;
@@ -84,7 +85,7 @@ TEST(Lbfgs, IsometricEnergyOfAPinnedPatchDecreasesWithoutFolds) {
   // A bumpy height-field patch, boundary pinned at its projection, interior free.
   const int n = 12;
   MatrixX3d V((n + 1) * (n + 1), 3);
-  MatrixX3i F(2 * n * n, 3);
+  MatrixX3i F;
   std::vector<Index> free_vertices;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
@@ -92,13 +93,7 @@ TEST(Lbfgs, IsometricEnergyOfAPinnedPatchDecreasesWithoutFolds) {
       V.row(i * (n + 1) + j) << x, y, 0.4 * std::sin(4 * x) * std::sin(3 * y);
       if (i > 0 && i < n && j > 0 && j < n) free_vertices.push_back(i * (n + 1) + j);
     }
-  Index k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      F.row(k++) << a, b, b + 1;
-      F.row(k++) << a, b + 1, a + 1;
-    }
+  F = test_meshes::grid_faces(n);
   const IsometricFactors factors = isometric_factors(V, F);
   MatrixX2d uv = V.leftCols(2);
   const MatrixX2d pinned = uv;
