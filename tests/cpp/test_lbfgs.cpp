@@ -16,6 +16,15 @@ const StepBound kUnbounded = [](const VectorXd&, const VectorXd&) {
   return std::numeric_limits<double>::infinity();
 };
 
+const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
+  const double a = 1 - x[0], b = x[1] - x[0] * x[0];
+  if (g) {
+    g->resize(2);
+    *g << -2 * a - 400 * x[0] * b, 200 * b;
+  }
+  return a * a + 100 * b * b;
+};
+
 bool non_increasing(const std::vector<double>& h) {
   for (std::size_t k = 1; k < h.size(); ++k)
     if (h[k] > h[k - 1]) return false;
@@ -24,14 +33,6 @@ bool non_increasing(const std::vector<double>& h) {
 }  // namespace
 
 TEST(Lbfgs, MinimisesRosenbrock) {
-  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
-    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
-    if (g) {
-      g->resize(2);
-      *g << -2 * a - 400 * x[0] * b, 200 * b;
-    }
-    return a * a + 100 * b * b;
-  };
   VectorXd x(2);
   x << -1.2, 1.0;
   LbfgsOptions o;
@@ -174,14 +175,6 @@ TEST(Lbfgs, GradientReferenceReplacesTheStartingGradient) {
   // Far out on Rosenbrock's valley |g0| is ~1e7: relative to it the
   // gradient test passes long before the minimum; relative to a reference
   // of the problem's own scale it does not.
-  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
-    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
-    if (g) {
-      g->resize(2);
-      *g << -2 * a - 400 * x[0] * b, 200 * b;
-    }
-    return a * a + 100 * b * b;
-  };
   LbfgsOptions o;
   o.gradient_tol = 1e-6;
   o.energy_tol = 0.0;
