@@ -37,7 +37,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 installed() {
-  [ -x "$venv/bin/python" ] && "$venv/bin/python" - "$@" <<'EOF' 2>/dev/null
+  [ -x "$venv/bin/python" ] && "$venv/bin/python" - <<'EOF' 2>/dev/null
 import sys
 from importlib.metadata import version
 ok = version("bpy").startswith("4.5.") and int(version("numpy").split(".")[0]) < 2
