@@ -16,3 +16,10 @@ echo "== native module tests (pytest)"
 echo "== Blender tests (pytest inside blender -b)"
 blender -b --factory-startup --python-exit-code 1 \
   --python tests/blender/run_pytest.py -- tests/blender -q
+
+echo "== Blender 4.5 tests (pytest with PyPI bpy)"
+if [ -x .venv-bpy/bin/python ]; then
+  .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider
+else
+  echo "skipped: no .venv-bpy (scripts/bpy-venv.sh creates it)"
+fi

@@ -1,18 +1,25 @@
-"""Loads paramorph_native: from this folder (an ABI-tagged .so installed with
-the add-on) first, else from sys.path. `native` is None when it cannot load,
-and `load_error` says why, so the add-on still loads and can tell the user."""
+"""Loads paramorph_native: from this package (the ABI-tagged .so installed
+with the add-on or extension, imported relatively, so it works under any
+package name, e.g. bl_ext.user_default.paramorph) first, else a top-level
+module from sys.path (the build folder, in development). `native` is None
+when it cannot load, and `load_error` says why, so the add-on still loads
+and can tell the user."""
 import importlib
-import os
-import sys
 
 native = None
 load_error = ""
 
-_here = os.path.dirname(os.path.abspath(__file__))
-if _here not in sys.path:
-    sys.path.insert(0, _here)
 try:
-    native = importlib.import_module("paramorph_native")
-except ImportError as error:  # shown in the panels and reports
-    load_error = (f"paramorph_native could not be loaded ({error}); build it with "
+    native = importlib.import_module(".paramorph_native", __package__)
+except ImportError as error:
+    if isinstance(error, ModuleNotFoundError) and error.name == f"{__package__}.paramorph_native":
+        # No .so in this package (running from the source tree): the build folder.
+        try:
+            native = importlib.import_module("paramorph_native")
+        except ImportError as fallback_error:
+            load_error = str(fallback_error)
+    else:  # a .so is here but does not load (wrong Python, missing library)
+        load_error = str(error)
+if native is None:  # shown in the panels and reports
+    load_error = (f"paramorph_native could not be loaded ({load_error}); build it with "
                   "scripts/build.sh and install the add-on again")

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "param/planar/isometric_energy.h"
+#include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::planar;
@@ -14,19 +15,12 @@ namespace {
 /// A small bumpy disc-like patch: a grid in 3D with a height field.
 void bumpy_patch(int n, MatrixX3d& V, MatrixX3i& F) {
   V.resize((n + 1) * (n + 1), 3);
-  F.resize(2 * n * n, 3);
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
       const double x = double(i) / n, y = double(j) / n + 0.3 * x * x;
       V.row(i * (n + 1) + j) << x, y, 0.2 * std::sin(3 * x) * std::cos(2 * y);
     }
-  Index k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      F.row(k++) << a, b, b + 1;
-      F.row(k++) << a, b + 1, a + 1;
-    }
+  F = test_meshes::grid_faces(n);
 }
 
 /// Each 3D triangle laid flat on its own (a disconnected, exactly isometric map).

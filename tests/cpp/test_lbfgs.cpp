@@ -6,6 +6,7 @@
 
 #include "param/planar/isometric_energy.h"
 #include "param/planar/lbfgs.h"
+#include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::planar;
@@ -13,6 +14,15 @@ using namespace paramorph::planar;
 namespace {
 const StepBound kUnbounded = [](const VectorXd&, const VectorXd&) {
   return std::numeric_limits<double>::infinity();
+};
+
+const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
+  const double a = 1 - x[0], b = x[1] - x[0] * x[0];
+  if (g) {
+    g->resize(2);
+    *g << -2 * a - 400 * x[0] * b, 200 * b;
+  }
+  return a * a + 100 * b * b;
 };
 
 bool non_increasing(const std::vector<double>& h) {
@@ -23,14 +33,6 @@ bool non_increasing(const std::vector<double>& h) {
 }  // namespace
 
 TEST(Lbfgs, MinimisesRosenbrock) {
-  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
-    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
-    if (g) {
-      g->resize(2);
-      *g << -2 * a - 400 * x[0] * b, 200 * b;
-    }
-    return a * a + 100 * b * b;
-  };
   VectorXd x(2);
   x << -1.2, 1.0;
   LbfgsOptions o;
@@ -84,7 +86,7 @@ TEST(Lbfgs, IsometricEnergyOfAPinnedPatchDecreasesWithoutFolds) {
   // A bumpy height-field patch, boundary pinned at its projection, interior free.
   const int n = 12;
   MatrixX3d V((n + 1) * (n + 1), 3);
-  MatrixX3i F(2 * n * n, 3);
+  MatrixX3i F;
   std::vector<Index> free_vertices;
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
@@ -92,13 +94,7 @@ TEST(Lbfgs, IsometricEnergyOfAPinnedPatchDecreasesWithoutFolds) {
       V.row(i * (n + 1) + j) << x, y, 0.4 * std::sin(4 * x) * std::sin(3 * y);
       if (i > 0 && i < n && j > 0 && j < n) free_vertices.push_back(i * (n + 1) + j);
     }
-  Index k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      F.row(k++) << a, b, b + 1;
-      F.row(k++) << a, b + 1, a + 1;
-    }
+  F = test_meshes::grid_faces(n);
   const IsometricFactors factors = isometric_factors(V, F);
   MatrixX2d uv = V.leftCols(2);
   const MatrixX2d pinned = uv;
@@ -179,14 +175,6 @@ TEST(Lbfgs, GradientReferenceReplacesTheStartingGradient) {
   // Far out on Rosenbrock's valley |g0| is ~1e7: relative to it the
   // gradient test passes long before the minimum; relative to a reference
   // of the problem's own scale it does not.
-  const EnergyFunction rosenbrock = [](const VectorXd& x, VectorXd* g) {
-    const double a = 1 - x[0], b = x[1] - x[0] * x[0];
-    if (g) {
-      g->resize(2);
-      *g << -2 * a - 400 * x[0] * b, 200 * b;
-    }
-    return a * a + 100 * b * b;
-  };
   LbfgsOptions o;
   o.gradient_tol = 1e-6;
   o.energy_tol = 0.0;

@@ -57,16 +57,10 @@ inline std::pair<MatrixX3d, MatrixX3i> lumpy_blob(int levels) {
   return {V, F};
 }
 
-/// An open (n+1)² grid patch over the unit square lifted into a bumpy height
-/// field, faces counter-clockwise seen from +z.
-inline std::pair<MatrixX3d, MatrixX3i> bumpy_grid(int n) {
-  MatrixX3d V((n + 1) * (n + 1), 3);
+/// Faces of an (n+1)² vertex grid, vertex (i, j) at row i (n + 1) + j, two
+/// triangles per cell, counter-clockwise when i runs along +x and j along +y.
+inline MatrixX3i grid_faces(int n) {
   MatrixX3i F(2 * n * n, 3);
-  for (int i = 0; i <= n; ++i)
-    for (int j = 0; j <= n; ++j) {
-      const double x = double(i) / n, y = double(j) / n;
-      V.row(i * (n + 1) + j) << x, y, 0.3 * std::sin(4 * x) * std::sin(3 * y);
-    }
   Index k = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
@@ -74,7 +68,19 @@ inline std::pair<MatrixX3d, MatrixX3i> bumpy_grid(int n) {
       F.row(k++) << a, b, b + 1;
       F.row(k++) << a, b + 1, a + 1;
     }
-  return {V, F};
+  return F;
+}
+
+/// An open (n+1)² grid patch over the unit square lifted into a bumpy height
+/// field, faces counter-clockwise seen from +z.
+inline std::pair<MatrixX3d, MatrixX3i> bumpy_grid(int n) {
+  MatrixX3d V((n + 1) * (n + 1), 3);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = double(i) / n, y = double(j) / n;
+      V.row(i * (n + 1) + j) << x, y, 0.3 * std::sin(4 * x) * std::sin(3 * y);
+    }
+  return {V, grid_faces(n)};
 }
 
 }  // namespace paramorph::test_meshes

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "param/planar/untangle.h"
+#include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::planar;
@@ -13,20 +14,13 @@ namespace {
 /// Unit-square grid, boundary flagged fixed.
 void grid(int n, MatrixX2d& uv, MatrixX3i& F, std::vector<char>& fixed) {
   uv.resize((n + 1) * (n + 1), 2);
-  F.resize(2 * n * n, 3);
   fixed.assign(uv.rows(), 0);
   for (int i = 0; i <= n; ++i)
     for (int j = 0; j <= n; ++j) {
       uv.row(i * (n + 1) + j) << double(i) / n, double(j) / n;
       fixed[i * (n + 1) + j] = (i == 0 || j == 0 || i == n || j == n);
     }
-  Index k = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const Index a = i * (n + 1) + j, b = a + n + 1;
-      F.row(k++) << a, b, b + 1;
-      F.row(k++) << a, b + 1, a + 1;
-    }
+  F = test_meshes::grid_faces(n);
 }
 }  // namespace
 

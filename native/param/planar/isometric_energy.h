@@ -25,6 +25,16 @@ struct IsometricFactors {
   VectorXd area;  ///< #F 3D areas (the weights)
 };
 
+/// Shape matrix S = [p e1, (q + r) e2 - q e1] of a face with UV corners u0..u2.
+inline Eigen::Matrix2d shape_matrix(double p, double q, double r, const Eigen::Vector2d& u0,
+                                    const Eigen::Vector2d& u1, const Eigen::Vector2d& u2) {
+  const Eigen::Vector2d e1 = u1 - u0, e2 = u2 - u0;
+  Eigen::Matrix2d S;
+  S.col(0) = p * e1;
+  S.col(1) = (q + r) * e2 - q * e1;
+  return S;
+}
+
 /// One face's isometric energy area·η and, when `g` is given, its gradient
 /// with respect to the face's three uv corners (g[0..2]); +inf (g untouched)
 /// when det(S) <= 0. The arithmetic every backend runs (kernels/planar.cl
@@ -32,10 +42,7 @@ struct IsometricFactors {
 inline double face_isometric_energy(double p, double q, double r, double area,
                                     const Eigen::Vector2d& u0, const Eigen::Vector2d& u1,
                                     const Eigen::Vector2d& u2, Eigen::Vector2d* g = nullptr) {
-  const Eigen::Vector2d e1 = u1 - u0, e2 = u2 - u0;
-  Eigen::Matrix2d S;
-  S.col(0) = p * e1;
-  S.col(1) = (q + r) * e2 - q * e1;
+  const Eigen::Matrix2d S = shape_matrix(p, q, r, u0, u1, u2);
   const double det = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
   if (!(det > 0.0)) return std::numeric_limits<double>::infinity();
   const double frob = S.squaredNorm(), inv_det2 = 1.0 / (det * det);

@@ -112,11 +112,8 @@ PlanarMetrics planar_metrics(const MatrixX3d& V, const MatrixX3i& F, const Matri
   double total = 0, area_sq = 0, angular = 0, l2_sq = 0, sd = 0;
   for (Index f = 0; f < Index(F.rows()); ++f) {
     const double p = factors.factors(f, 0), q = factors.factors(f, 1), r = factors.factors(f, 2);
-    const Eigen::Vector2d e1 = uv.row(F(f, 1)) - uv.row(F(f, 0));
-    const Eigen::Vector2d e2 = uv.row(F(f, 2)) - uv.row(F(f, 0));
-    Eigen::Matrix2d S;
-    S.col(0) = p * e1;
-    S.col(1) = (q + r) * e2 - q * e1;
+    const Eigen::Matrix2d S =
+        shape_matrix(p, q, r, uv.row(F(f, 0)), uv.row(F(f, 1)), uv.row(F(f, 2)));
     const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(S).singularValues();
     const double w = factors.area[f], ratio = s[0] * s[1];
     const double l2 = std::sqrt(0.5 * (s[0] * s[0] + s[1] * s[1]));

@@ -90,13 +90,8 @@ struct DetStats {
 /// Shape matrix S of face f (isometric_energy.h).
 Eigen::Matrix2d shape(const IsometricFactors& ref, const MatrixX3i& F, const MatrixX2d& uv,
                       Index f) {
-  const double p = ref.factors(f, 0), q = ref.factors(f, 1), r = ref.factors(f, 2);
-  const Eigen::Vector2d e1 = uv.row(F(f, 1)) - uv.row(F(f, 0));
-  const Eigen::Vector2d e2 = uv.row(F(f, 2)) - uv.row(F(f, 0));
-  Eigen::Matrix2d S;
-  S.col(0) = p * e1;
-  S.col(1) = (q + r) * e2 - q * e1;
-  return S;
+  return shape_matrix(ref.factors(f, 0), ref.factors(f, 1), ref.factors(f, 2), uv.row(F(f, 0)),
+                      uv.row(F(f, 1)), uv.row(F(f, 2)));
 }
 
 DetStats det_stats(const IsometricFactors& ref, const MatrixX3i& F, const MatrixX2d& uv) {
