@@ -1,0 +1,55 @@
+"""Runs one native call off Blender's main thread: the call releases the GIL,
+reports progress through a callback, and stops when asked (the callback
+returns False and the native side raises `Cancelled`). Blender data is only
+read before the job starts and written after it ends, on the main thread, so
+a cancelled or failed job leaves the scene as it was."""
+import threading
+
+
+class NativeJob:
+    def __init__(self, function, *args, **kwargs):
+        self._function = function
+        self._args = args
+        self._kwargs = kwargs
+        self._cancel = threading.Event()
+        self._thread = None
+        self.fraction = 0.0
+        self.stage = ""
+        self.result = None
+        self.error = None
+
+    def _progress(self, fraction, stage):
+        self.fraction = float(fraction)
+        self.stage = stage
+        return not self._cancel.is_set()
+
+    def _run(self):
+        try:
+            self.result = self._function(*self._args, progress=self._progress, **self._kwargs)
+        except BaseException as error:  # handed to the main thread, reported there
+            self.error = error
+
+    def start(self):
+        self._thread = threading.Thread(target=self._run, name="paramorph-native", daemon=True)
+        self._thread.start()
+        return self
+
+    def run(self):
+        """Runs on the calling thread (background mode, redo, scripts)."""
+        self._run()
+        return self
+
+    def cancel(self):
+        self._cancel.set()
+
+    @property
+    def cancelled(self):
+        return self._cancel.is_set()
+
+    def done(self):
+        return self._thread is None or not self._thread.is_alive()
+
+    def wait(self, timeout=None):
+        if self._thread is not None:
+            self._thread.join(timeout)
+        return self.done()

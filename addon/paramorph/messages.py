@@ -1,0 +1,48 @@
+"""Native errors in plain words for Blender reports: what is wrong with the
+mesh and the Blender tool that fixes it, instead of a traceback."""
+from .native import native
+
+
+def _count(n, word):
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def describe(error, V=None, F=None):
+    """A one-line message for `error`; V, F (the arrays sent to the native
+    call) let it count holes and components."""
+    pm = native
+    if pm is None:
+        return str(error)
+    report = None
+    if V is not None and F is not None:
+        try:
+            report = pm.validate(V, F)
+        except Exception:  # the arrays themselves are bad: fall back to the error text
+            report = None
+    if isinstance(error, pm.Cancelled):
+        return "cancelled: the mesh was left as it was"
+    if isinstance(error, pm.NotClosedError):
+        holes = report.boundary_loops if report is not None else None
+        head = f"mesh has {_count(holes, 'hole')}" if holes else "mesh is not closed"
+        return f"{head}: close them (Fill Holes) first"
+    if isinstance(error, pm.NotOpenError):
+        return "the selected faces form a closed surface: mark a seam to cut it open first"
+    if isinstance(error, pm.NotGenusZeroError):
+        genus = report.genus if report is not None and report.genus > 0 else None
+        head = f"mesh has {_count(genus, 'handle')} (genus {genus})" if genus else "mesh has handles"
+        return f"{head}: it must be a sphere-like surface (cut or fill the handles first)"
+    if isinstance(error, pm.DisconnectedError):
+        parts = report.components if report is not None and report.components > 1 else None
+        head = f"mesh has {_count(parts, 'separate part')}" if parts else "mesh has separate parts"
+        return f"{head}: separate them (Separate > By Loose Parts) or delete loose geometry first"
+    if isinstance(error, pm.NonManifoldError):
+        return f"mesh is not manifold ({error}): Select > All by Trait > Non Manifold shows where"
+    if isinstance(error, pm.DegenerateFaceError):
+        return f"mesh has zero-area faces ({error}): Mesh > Clean Up > Degenerate Dissolve fixes them"
+    if isinstance(error, pm.ConstraintError):
+        return f"the pinned UVs cannot all be met without folds ({error}): unpin or move some"
+    if isinstance(error, pm.InvalidInputError):
+        return f"invalid input: {error}"
+    if isinstance(error, pm.ComputeError):
+        return f"the OpenCL device failed ({error}): choose the CPU backend in the add-on preferences"
+    return f"{type(error).__name__}: {error}"

@@ -1,0 +1,98 @@
+"""The shape every long paramorph operator shares: read the mesh on the main
+thread, run the native call (in a thread with progress in the status bar and
+Esc to cancel when Blender has a window; on the calling thread in `blender -b`,
+from scripts and from the redo panel), then write the result on the main
+thread. Nothing is written unless the call succeeded, so a cancelled or
+failed run leaves the mesh exactly as it was."""
+import bpy
+
+from . import messages
+from .jobs import NativeJob
+from .native import load_error, native
+
+
+class NativeOperator:
+    """Mixin for bpy.types.Operator. Subclasses define
+    prepare(context) -> (function, args, kwargs, state)   (may raise UserError)
+    finish(context, result, state) -> message for the INFO report."""
+
+    _job = None
+    _timer = None
+    _state = None
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH"
+
+    def _prepare_or_report(self, context):
+        if native is None:
+            self.report({"ERROR"}, load_error)
+            return None
+        try:
+            return self.prepare(context)
+        except UserError as error:
+            self.report({"ERROR"}, str(error))
+            return None
+
+    def _finish(self, context, job, state):
+        if job.error is not None:
+            arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
+            level = {"WARNING"} if isinstance(job.error, native.Cancelled) else {"ERROR"}
+            self.report(level, messages.describe(job.error, *arrays))
+            return {"CANCELLED"}
+        self.report({"INFO"}, self.finish(context, job.result, state))
+        return {"FINISHED"}
+
+    def execute(self, context):
+        prepared = self._prepare_or_report(context)
+        if prepared is None:
+            return {"CANCELLED"}
+        function, args, kwargs, state = prepared
+        return self._finish(context, NativeJob(function, *args, **kwargs).run(), state)
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window_manager is None or context.window is None:
+            return self.execute(context)
+        prepared = self._prepare_or_report(context)
+        if prepared is None:
+            return {"CANCELLED"}
+        function, args, kwargs, self._state = prepared
+        self._job = NativeJob(function, *args, **kwargs).start()
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.progress_begin(0, 100)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        job = self._job
+        if event.type == "ESC" and event.value == "PRESS":
+            job.cancel()
+        if event.type != "TIMER" and not job.cancelled:
+            return {"PASS_THROUGH"}
+        if not job.done():
+            context.window_manager.progress_update(int(100 * job.fraction))
+            if context.workspace is not None:
+                text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%  (Esc to cancel)"
+                context.workspace.status_text_set(text)
+            return {"RUNNING_MODAL"}
+        self._end_modal(context)
+        return self._finish(context, job, self._state)
+
+    def _end_modal(self, context):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
+
+    def cancel(self, context):  # Blender closes the window or aborts the operator
+        if self._job is not None:
+            self._job.cancel()
+            self._job.wait()
+            self._end_modal(context)
+
+
+class UserError(Exception):
+    """A problem with what the user selected, reported as is."""
