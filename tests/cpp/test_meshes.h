@@ -1,6 +1,7 @@
 // Small closed meshes built in the C++ tests.
 #pragma once
 
+#include <array>
 #include <map>
 #include <utility>
 
@@ -54,6 +55,46 @@ inline std::pair<MatrixX3d, MatrixX3i> lumpy_blob(int levels) {
     const double r = 1.0 + 0.35 * std::sin(3.0 * p.x()) * std::cos(2.0 * p.y()) + 0.5 * p.z() * p.z();
     V.row(i) = (r * p.cwiseProduct(Eigen::Vector3d(1.0, 1.6, 0.8))).transpose();
   }
+  return {V, F};
+}
+
+/// Closed box [-h, h] (h = half_extents) with every side an n by n grid of
+/// cells split into two triangles, welded along the edges; counter-clockwise
+/// seen from outside. Its convex hull is the box itself.
+inline std::pair<MatrixX3d, MatrixX3i> box_grid(int n, const Eigen::Vector3d& half_extents) {
+  std::map<std::array<int, 3>, Index> id;  // integer lattice point -> vertex
+  std::vector<Eigen::Vector3i> faces;
+  auto vertex = [&](std::array<int, 3> p) {
+    auto it = id.find(p);
+    if (it != id.end()) return it->second;
+    const Index next = Index(id.size());
+    return id[p] = next;
+  };
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;  // e_b x e_c = e_a
+    for (int side = 0; side <= 1; ++side)
+      for (int u = 0; u < n; ++u)
+        for (int v = 0; v < n; ++v) {
+          auto at = [&](int du, int dv) {
+            std::array<int, 3> p{};
+            p[a] = side * n, p[b] = u + du, p[c] = v + dv;
+            return vertex(p);
+          };
+          const Index p00 = at(0, 0), p10 = at(1, 0), p11 = at(1, 1), p01 = at(0, 1);
+          if (side == 1) {
+            faces.push_back({p00, p10, p11});
+            faces.push_back({p00, p11, p01});
+          } else {
+            faces.push_back({p00, p11, p10});
+            faces.push_back({p00, p01, p11});
+          }
+        }
+  }
+  MatrixX3d V(id.size(), 3);
+  for (const auto& [p, i] : id)
+    for (int k = 0; k < 3; ++k) V(i, k) = half_extents[k] * (2.0 * p[k] / n - 1.0);
+  MatrixX3i F(faces.size(), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f) F.row(f) = faces[f].transpose();
   return {V, F};
 }
 
