@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numeric>
 
+#include <Eigen/Geometry>
+
 #include "common/errors.h"
 #include "features/concavity.h"
 #include "features/merge_regions.h"
@@ -110,12 +112,12 @@ Segmentation feature_regions(const MatrixX3d& V, const MatrixX3i& F,
   validate_arrays(V, F);
   const TriMesh mesh(V, F);
   const MeshReport report = validate(mesh);
-  PM_REQUIRE(report.non_manifold_edges.empty(), NonManifoldError,
-             "mesh is not manifold: edges ", format_vertex_pairs(report.non_manifold_edge_vertices),
-             " have more than two faces");
   PM_REQUIRE(report.degenerate_faces.empty(), DegenerateFaceError, "mesh has ",
              report.degenerate_faces.size(), " degenerate faces (",
              format_indices(report.degenerate_faces), "): they have no normal");
+  PM_REQUIRE(report.non_manifold_edges.empty(), NonManifoldError,
+             "mesh is not manifold: edges ", format_vertex_pairs(report.non_manifold_edge_vertices),
+             " have more than two faces");
   if (progress) progress->report(0.0, "concavity");
   const VectorXd intensity = o.concavity ? *o.concavity : concavity(V, F);
   if (progress) progress->report(0.5, "feature regions");

@@ -2,7 +2,11 @@
 // (features/feature_points), thesis 4.5, Defs. 4.1 and 4.2.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <map>
 #include <set>
+
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "features/concavity.h"
@@ -15,20 +19,48 @@ using namespace paramorph::features;
 
 namespace {
 
-/// The icosphere blown onto the cube [-1, 1]^3 (x / max|x|): six flat sides
-/// meeting at 90 degree creases.
-std::pair<MatrixX3d, MatrixX3i> cube_from_sphere(int levels) {
-  auto [V, F] = test_meshes::icosphere(levels);
-  for (Index v = 0; v < V.rows(); ++v) V.row(v) /= V.row(v).cwiseAbs().maxCoeff();
+/// The cube [-1, 1]^3, each side an n by n grid of squares split into two
+/// triangles, sides sharing their edge vertices: 90 degree creases on edges.
+std::pair<MatrixX3d, MatrixX3i> grid_cube(int n) {
+  std::map<std::array<long, 3>, Index> index;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> faces;
+  auto vertex = [&](const Eigen::Vector3d& p) {
+    const std::array<long, 3> key{std::lround(p.x() * n), std::lround(p.y() * n), std::lround(p.z() * n)};
+    auto [it, added] = index.emplace(key, Index(points.size()));
+    if (added) points.push_back(p);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {-1.0, 1.0}) {
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero(), u = Eigen::Vector3d::Zero();
+      normal[axis] = sign;
+      u[(axis + 1) % 3] = 1.0;
+      const Eigen::Vector3d v = normal.cross(u);  // u x v = normal: counter-clockwise outside
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          auto at = [&](int a, int b) {
+            return vertex(normal + (2.0 * a / n - 1) * u + (2.0 * b / n - 1) * v);
+          };
+          const Index p00 = at(i, j), p10 = at(i + 1, j), p11 = at(i + 1, j + 1), p01 = at(i, j + 1);
+          faces.push_back({p00, p10, p11});
+          faces.push_back({p00, p11, p01});
+        }
+    }
+  MatrixX3d V(points.size(), 3);
+  MatrixX3i F(faces.size(), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) V.row(i) = points[i].transpose();
+  for (std::size_t i = 0; i < faces.size(); ++i) F.row(i) = faces[i].transpose().cast<Index>();
   return {V, F};
 }
 
-/// The unit icosphere with a smooth dimple of the given depth around +z.
+/// The unit icosphere with a conical pit of the given depth pushed down (-z)
+/// around the +z pole, deepest at the pole.
 std::pair<MatrixX3d, MatrixX3i> dimpled_sphere(double depth) {
   auto [V, F] = test_meshes::icosphere(4);
   for (Index v = 0; v < V.rows(); ++v) {
     const double t = std::max(0.0, (V(v, 2) - 0.8) / 0.2);  // 0 at the rim, 1 at the pole
-    V.row(v) *= 1.0 - depth * t * t * (3 - 2 * t);
+    V(v, 2) -= depth * t;
   }
   return {V, F};
 }
@@ -49,7 +81,7 @@ Index farthest_along(const MatrixX3d& V, const Eigen::Vector3d& d) {
 }  // namespace
 
 TEST(FeatureRegions, TheSixSidesOfACubeAreSixRegions) {
-  auto [V, F] = cube_from_sphere(4);
+  auto [V, F] = grid_cube(8);
   const Segmentation s = feature_regions(V, F);
   EXPECT_EQ(s.regions(), 6);
   std::set<Index> sides;
@@ -57,8 +89,9 @@ TEST(FeatureRegions, TheSixSidesOfACubeAreSixRegions) {
     for (double sign : {-1.0, 1.0}) {
       Eigen::Vector3d d = Eigen::Vector3d::Zero();
       d[axis] = sign;
-      // The side's centre: the vertex farthest along d among those near the axis.
-      sides.insert(region_of_vertex(F, s, farthest_along(V, d + 0.01 * Eigen::Vector3d(1, 2, 3))));
+      Index centre = 0;  // of the side facing d
+      (V.rowwise() - d.transpose()).rowwise().norm().minCoeff(&centre);
+      sides.insert(region_of_vertex(F, s, centre));
     }
   EXPECT_EQ(sides.size(), 6u);
   for (Index r = 0; r < s.regions(); ++r) EXPECT_NEAR(s.area[r], 4.0, 0.4) << r;
@@ -71,7 +104,8 @@ TEST(FeatureRegions, ADimpleIsAPocketRegionWithAConcavePointAtItsBottom) {
   o.concavity = intensity;
   const Segmentation s = feature_regions(V, F, o);
   ASSERT_EQ(s.regions(), 2);
-  const Index bottom = farthest_along(V, {0, 0, 1});  // the pole moved in; still the top-most vertex
+  Index bottom = 0;  // the pole, moved in to z = 0.7
+  (V.rowwise() - Eigen::RowVector3d(0, 0, 0.7)).rowwise().norm().minCoeff(&bottom);
   const Index pocket = region_of_vertex(F, s, bottom);
   EXPECT_NE(pocket, region_of_vertex(F, s, farthest_along(V, {0, 0, -1})));
   EXPECT_LT(s.area[pocket], 0.2 * s.area.sum());
