@@ -46,13 +46,102 @@ def build_blob(name="Blob", subdivisions=5):
     return obj
 
 
+def build_octopus(name="Octopus", subdivisions=5, limbs=6):
+    """An octopus-like blob: an icosphere with `limbs` tentacles pulled out
+    around the equator, each bent slightly down (closed, genus 0)."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions, radius=1.0)
+    obj = bpy.context.active_object
+    obj.name = name
+    mesh = obj.data
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    P = co.reshape(-1, 3).astype(np.float64)
+    P /= np.linalg.norm(P, axis=1, keepdims=True)
+    angles = 2 * np.pi * np.arange(limbs) / limbs
+    dirs = np.stack([np.cos(angles), np.sin(angles), np.full(limbs, -0.35)], axis=1)
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    pull = np.clip((P @ dirs.T - 0.9) / 0.1, 0.0, None).max(axis=1)
+    out = P * (1.0 + 2.2 * pull[:, None] ** 1.5)
+    out[:, 2] -= 0.3 * pull ** 2  # tentacles droop
+    mesh.vertices.foreach_set("co", out.astype(np.float32).ravel())
+    mesh.update()
+    return obj
+
+
+def build_cad_part(name="CadPart"):
+    """A CAD-like part: a plate with two cylindrical bosses and two ribs,
+    unioned into one closed manifold and triangulated."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    plate = bpy.context.active_object
+    plate.name = name
+    plate.scale = (3.0, 2.0, 0.3)
+    bpy.ops.object.transform_apply(scale=True)
+    tools = []
+    for x in (-0.9, 0.9):
+        bpy.ops.mesh.primitive_cylinder_add(vertices=32, radius=0.35, depth=0.6, location=(x, 0.4, 0.35))
+        tools.append(bpy.context.active_object)
+    for y in (-0.55, -0.15):
+        bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, y, 0.3))
+        rib = bpy.context.active_object
+        rib.scale = (2.4, 0.12, 0.5)
+        tools.append(rib)
+    for tool in tools:
+        union = plate.modifiers.new("Union", "BOOLEAN")
+        union.operation = "UNION"
+        union.object = tool
+        if hasattr(union, "solver"):
+            union.solver = "EXACT"
+        _apply_all_modifiers(plate)
+        bpy.data.objects.remove(tool, do_unlink=True)
+    plate.modifiers.new("Triangulate", "TRIANGULATE")
+    _apply_all_modifiers(plate)
+    return plate
+
+
+def build_pinned_disc(name="PinnedDisc", subdivisions=12):
+    """A bumpy disc (a grid cut to a circle and lifted) with a UV layer whose
+    four boundary extremes are pinned at the corners of the unit square."""
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=subdivisions, y_subdivisions=subdivisions, size=2.0)
+    obj = bpy.context.active_object
+    obj.name = name
+    mesh = obj.data
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    P = co.reshape(-1, 3).astype(np.float64)
+    r = np.maximum(np.abs(P[:, 0]), np.abs(P[:, 1]))
+    scale = np.divide(r, np.hypot(P[:, 0], P[:, 1]), out=np.ones_like(r), where=r > 0)
+    P[:, :2] *= scale[:, None]  # square rings -> circles
+    P[:, 2] = 0.25 * np.sin(2.5 * P[:, 0]) * np.cos(2.0 * P[:, 1])
+    mesh.vertices.foreach_set("co", P.astype(np.float32).ravel())
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    uv = 0.5 + 0.5 * P[loop_vertex, :2]
+    pinned_vertices = [int(np.argmax(P[:, 0])), int(np.argmin(P[:, 0])),
+                       int(np.argmax(P[:, 1])), int(np.argmin(P[:, 1]))]
+    pins = np.isin(loop_vertex, pinned_vertices)
+    layer = mesh.uv_layers.new(name="UVMap")
+    layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
+    layer.data.foreach_set("pin_uv", pins)
+    mesh.update()
+    return obj
+
+
+BUILDERS = {
+    "suzanne_closed": build_suzanne_closed,
+    "octopus": build_octopus,
+    "cad_part": build_cad_part,
+    "pinned_disc": build_pinned_disc,
+}
+
+
 def main(out_dir):
     os.makedirs(out_dir, exist_ok=True)
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    build_suzanne_closed()
-    path = os.path.join(out_dir, "suzanne_closed.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=path)
-    print(f"wrote {path}")
+    for name, builder in BUILDERS.items():
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        builder()
+        path = os.path.join(out_dir, f"{name}.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        print(f"wrote {path}")
 
 
 if __name__ == "__main__":

@@ -13,11 +13,53 @@ bl_info = {
 }
 
 
+_CLASS_MODULES = ("preferences", "ops_sphere", "ops_segment", "ops_select", "panels", "overlay")
+
+
+def _modules():
+    import importlib
+    return [importlib.import_module(f".{name}", __package__) for name in _CLASS_MODULES]
+
+
+def _menu_entries(self, context):
+    layout = self.layout
+    layout.separator()
+    layout.operator("paramorph.sphere_map")
+    layout.operator("paramorph.segment_extremities")
+    layout.operator("paramorph.detect_feature_regions")
+
+
 def register():
-    # Operators and panels are registered here as they land; importing the
-    # native module lazily keeps the add-on loadable without it.
-    from . import native  # noqa: F401
+    """Idempotent: a second register (read_homefile, reload) first undoes the first.
+    The native module loads lazily inside `native`; without it every class still
+    registers and the panel says how to build it."""
+    import bpy
+
+    from . import properties
+    if hasattr(bpy.types.Scene, "paramorph"):
+        unregister()
+    properties.register()
+    for module in _modules():
+        for cls in module.classes:
+            bpy.utils.register_class(cls)
+        if hasattr(module, "register"):
+            module.register()
+    bpy.types.VIEW3D_MT_object.append(_menu_entries)
 
 
 def unregister():
-    pass
+    import bpy
+
+    from . import properties
+    bpy.types.VIEW3D_MT_object.remove(_menu_entries)
+    for module in reversed(_modules()):
+        if hasattr(module, "unregister"):
+            module.unregister()
+        for cls in reversed(module.classes):
+            if getattr(cls, "is_registered", True):
+                try:
+                    bpy.utils.unregister_class(cls)
+                except RuntimeError:  # never registered (a failed earlier register)
+                    pass
+    if hasattr(bpy.types.Scene, "paramorph"):
+        properties.unregister()

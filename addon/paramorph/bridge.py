@@ -1,5 +1,8 @@
 """Blender <-> numpy bridge: mesh arrays out, UV layers and shape keys in.
 foreach_get/foreach_set with matching dtypes; no Python loops over elements."""
+import contextlib
+
+import bpy
 import numpy as np
 
 from .native import load_error, native
@@ -96,16 +99,39 @@ def add_shape_key(obj, coordinates, name, value=0.0):
     return key
 
 
+@contextlib.contextmanager
+def object_mode(context, obj):
+    """Object-mode mesh data for the duration (foreach_set writes go to the
+    mesh, not to the Edit Mode copy), then back to the mode it was in."""
+    mode = obj.mode
+    if mode != "OBJECT":
+        with context.temp_override(active_object=obj, object=obj):
+            bpy.ops.object.mode_set(mode="OBJECT")
+    try:
+        yield obj
+    finally:
+        if mode != "OBJECT":
+            with context.temp_override(active_object=obj, object=obj):
+                bpy.ops.object.mode_set(mode=mode)
+
+
+def write_sphere_map(obj, V, result, uv_name="Sphere", key_name="Sphere", shape_key=True):
+    """UV layer `uv_name` from the map and, optionally, shape key `key_name`
+    (the sphere scaled to the mesh's bounding sphere)."""
+    mesh = obj.data
+    write_uv_layer(mesh, sphere_uv(mesh, result.positions), uv_name)
+    if shape_key:
+        center = 0.5 * (V.min(axis=0) + V.max(axis=0))
+        radius = float(np.linalg.norm(V - center, axis=1).max())
+        add_shape_key(obj, center + radius * result.positions, key_name)
+
+
 def sphere_map_object(obj, uv_name="Sphere", key_name="Sphere", **options):
     """Sphere-maps a mesh object: UV layer `uv_name` and shape key `key_name`
     (the sphere scaled to the mesh's bounding sphere). The native call runs
     first, so a failure leaves the object untouched. Returns the native result."""
     pm = require_native()
-    mesh = obj.data
-    V, F, _, _ = mesh_arrays(mesh)
+    V, F, _, _ = mesh_arrays(obj.data)
     result = pm.sphere_map(V, F, **options)
-    write_uv_layer(mesh, sphere_uv(mesh, result.positions), uv_name)
-    center = 0.5 * (V.min(axis=0) + V.max(axis=0))
-    radius = float(np.linalg.norm(V - center, axis=1).max())
-    add_shape_key(obj, center + radius * result.positions, key_name)
+    write_sphere_map(obj, V, result, uv_name, key_name)
     return result

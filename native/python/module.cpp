@@ -9,4 +9,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_compute(m);
   paramorph::python::bind_sphere(m);
   paramorph::python::bind_planar(m);
+  paramorph::python::bind_segmentation(m);
 }

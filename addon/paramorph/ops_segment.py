@@ -1,0 +1,117 @@
+"""Segmentation operators: Segment Extremities (thesis 3.5.1) and Detect
+Feature Regions (4.5). Both store the regions as the integer face attribute
+"paramorph_region" (kept on save, shown by the overlay and by attribute
+viewers) and feature points in "paramorph_feature_point" (per vertex: +1
+concave, -1 convex, 0 none)."""
+import bpy
+import numpy as np
+
+from . import bridge, regions
+from .native import native
+from .native_operator import NativeOperator
+
+FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
+
+
+def write_feature_points(mesh, count, vertices, kinds):
+    values = np.zeros(count, dtype=np.int32)
+    values[np.asarray(vertices, dtype=np.int64)] = np.asarray(kinds, dtype=np.int32)
+    attribute = mesh.attributes.get(FEATURE_POINT_ATTRIBUTE)
+    if attribute is not None and (attribute.domain != "POINT" or attribute.data_type != "INT"):
+        mesh.attributes.remove(attribute)
+        attribute = None
+    if attribute is None:
+        attribute = mesh.attributes.new(FEATURE_POINT_ATTRIBUTE, "INT", "POINT")
+    attribute.data.foreach_set("value", values)
+
+
+class _Segmenter(NativeOperator):
+    def prepare(self, context):
+        obj = context.active_object
+        if obj.mode == "EDIT":
+            obj.update_from_editmode()
+        V, F, tri_poly, _ = bridge.mesh_arrays(obj.data)
+        state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly}
+        return self.native_call(), (V, F), self.native_options(), state
+
+    def finish(self, context, result, state):
+        obj = bpy.data.objects[state["object"]]
+        segmentation = result[0] if isinstance(result, tuple) else result
+        labels = regions.polygon_labels(obj.data, np.asarray(segmentation.face_labels), state["tri_poly"])
+        with bridge.object_mode(context, obj):
+            regions.write_labels(obj.data, labels)
+            if isinstance(result, tuple):
+                points = result[1]
+                write_feature_points(obj.data, len(state["arrays"][0]), points.vertices, points.kinds)
+        for area in context.screen.areas if context.screen else ():
+            area.tag_redraw()
+        return self.summary(result, int(labels.max()) + 1 if len(labels) else 0)
+
+
+class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):
+    """Split the active closed genus-0 mesh into its extremities (limbs, ears) and
+    body by the area stretch of its conformal sphere map"""
+    bl_idname = "paramorph.segment_extremities"
+    bl_label = "Segment Extremities"
+    bl_options = {"REGISTER", "UNDO"}
+
+    threshold: bpy.props.FloatProperty(
+        name="Threshold", default=1.5, min=0.05, soft_max=5.0,
+        description="Rise of log area stretch a part needs to be its own region")
+    min_area: bpy.props.FloatProperty(
+        name="Minimum Area", default=0.01, min=0.0, max=0.5, subtype="FACTOR",
+        description="Regions under this share of the surface are merged into a neighbour")
+
+    def native_call(self):
+        return native.segment_extremities
+
+    def native_options(self):
+        return {"threshold": self.threshold, "min_area": self.min_area}
+
+    def summary(self, result, count):
+        return f"Segment Extremities: {count} regions"
+
+
+def _feature_regions_and_points(V, F, *, progress, spacing, **options):
+    """Feature regions, then their feature points, from one concavity."""
+    concavity = native.concavity(V, F)
+    segmentation = native.feature_regions(V, F, concavity=concavity, progress=progress, **options)
+    points = native.feature_points(V, F, segmentation.face_labels, concavity, spacing=spacing)
+    return segmentation, points
+
+
+class PARAMORPH_OT_detect_feature_regions(_Segmenter, bpy.types.Operator):
+    """Split the active mesh into feature regions by creases and concavity, and mark
+    feature points (pocket bottoms, tips)"""
+    bl_idname = "paramorph.detect_feature_regions"
+    bl_label = "Detect Feature Regions"
+    bl_options = {"REGISTER", "UNDO"}
+
+    normal_angle: bpy.props.FloatProperty(
+        name="Crease Angle", default=0.6981317, min=0.0175, max=3.14159, subtype="ANGLE",
+        description="Edges sharper than this separate regions")
+    concavity_threshold: bpy.props.FloatProperty(
+        name="Pocket Depth", default=0.02, min=0.001, max=0.5, subtype="FACTOR",
+        description="Depth below the convex hull (share of the bounding-box diagonal) "
+                    "that makes a pocket its own region")
+    min_area: bpy.props.FloatProperty(
+        name="Minimum Area", default=0.005, min=0.0, max=0.5, subtype="FACTOR",
+        description="Regions under this share of the surface are merged into a neighbour")
+    spacing: bpy.props.FloatProperty(
+        name="Point Spacing", default=0.05, min=0.0, max=1.0, subtype="FACTOR",
+        description="Closest two feature points of one kind in a region "
+                    "(share of the bounding-box diagonal)")
+
+    def native_call(self):
+        return _feature_regions_and_points
+
+    def native_options(self):
+        return {"normal_angle": np.degrees(self.normal_angle),
+                "concavity_threshold": self.concavity_threshold,
+                "min_area": self.min_area, "spacing": self.spacing}
+
+    def summary(self, result, count):
+        return f"Detect Feature Regions: {count} regions, {len(result[1].vertices)} feature points"
+
+
+classes = (PARAMORPH_OT_segment_extremities, PARAMORPH_OT_detect_feature_regions)

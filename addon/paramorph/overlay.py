@@ -1,0 +1,141 @@
+"""Viewport overlay: the active mesh's regions as translucent colours,
+region borders as lines and feature points as dots, drawn by a `gpu` draw
+handler from the "paramorph_region" and "paramorph_feature_point"
+attributes. Shader names are the plain built-ins that exist from Blender 3.4
+to 5.x (no bgl, no 3D_ prefixed names)."""
+import colorsys
+
+import bpy
+import gpu
+import numpy as np
+from gpu_extras.batch import batch_for_shader
+
+from . import regions
+
+FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
+_handler = None
+_cache = {}  # object name -> (key, batches)
+
+
+def region_colors(count, alpha=0.45):
+    """Distinct colours: hues spread by the golden ratio, full saturation."""
+    hues = (np.arange(count) * 0.618033988749895) % 1.0
+    rgb = np.array([colorsys.hsv_to_rgb(h, 0.85, 1.0) for h in hues], dtype=np.float32)
+    return np.hstack([rgb.reshape(-1, 3), np.full((count, 1), alpha, dtype=np.float32)])
+
+
+def _key(obj):
+    mesh = obj.data
+    labels = regions.read_labels(mesh)
+    if labels is None:
+        return None, None
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return (mesh.as_pointer(), len(mesh.polygons), hash(labels.tobytes()), hash(co.tobytes())), labels
+
+
+def _batches(obj, labels):
+    mesh = obj.data
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    mesh.calc_loop_triangles()
+    tris = np.empty(3 * len(mesh.loop_triangles), dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", tris)
+    tri_poly = np.empty(len(mesh.loop_triangles), dtype=np.int32)
+    mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
+    # Lift the overlay off the surface a little so it does not z-fight.
+    normals = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("normal", normals)
+    size = float(np.linalg.norm(co.max(axis=0) - co.min(axis=0))) if len(co) else 1.0
+    lifted = co + 2e-3 * size * normals.reshape(-1, 3)
+
+    colors = region_colors(int(labels.max()) + 1)
+    corner_color = np.repeat(colors[labels[tri_poly]], 3, axis=0)
+    shader = gpu.shader.from_builtin("SMOOTH_COLOR")
+    faces = batch_for_shader(shader, "TRIS", {"pos": lifted[tris], "color": corner_color})
+
+    loop_edge = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("edge_index", loop_edge)
+    edge_vertices = np.empty(2 * len(mesh.edges), dtype=np.int32)
+    mesh.edges.foreach_get("vertices", edge_vertices)
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    poly_of_loop = np.repeat(np.arange(len(loop_total)), loop_total)
+    # Border edges: edges whose two polygons carry different labels.
+    label_of_loop = labels[poly_of_loop]
+    edge_min = np.full(len(mesh.edges), np.iinfo(np.int32).max, dtype=np.int64)
+    edge_max = np.full(len(mesh.edges), -1, dtype=np.int64)
+    np.minimum.at(edge_min, loop_edge, label_of_loop)
+    np.maximum.at(edge_max, loop_edge, label_of_loop)
+    border = np.flatnonzero((edge_max >= 0) & (edge_min != edge_max))
+    lines = lifted[edge_vertices.reshape(-1, 2)[border].ravel()]
+    line_shader = gpu.shader.from_builtin("UNIFORM_COLOR")
+    borders = batch_for_shader(line_shader, "LINES", {"pos": lines}) if len(border) else None
+
+    points = None
+    attribute = mesh.attributes.get(FEATURE_POINT_ATTRIBUTE)
+    if attribute is not None and attribute.domain == "POINT":
+        kinds = np.empty(len(mesh.vertices), dtype=np.int32)
+        attribute.data.foreach_get("value", kinds)
+        marked = np.flatnonzero(kinds != 0)
+        if len(marked):
+            colors = np.where(kinds[marked, None] > 0, [[0.1, 0.3, 1.0, 1.0]], [[1.0, 0.9, 0.1, 1.0]])
+            points = batch_for_shader(shader, "POINTS", {"pos": lifted[marked],
+                                                         "color": colors.astype(np.float32)})
+    return shader, faces, line_shader, borders, points
+
+
+def draw():
+    context = bpy.context
+    scene = context.scene
+    if scene is None or not getattr(scene, "paramorph", None) or not scene.paramorph.show_overlay:
+        return
+    obj = context.active_object
+    if obj is None or obj.type != "MESH" or obj.mode == "EDIT":
+        return
+    key, labels = _key(obj)
+    if key is None:
+        return
+    cached = _cache.get(obj.name)
+    if cached is None or cached[0] != key:
+        cached = (key, _batches(obj, labels))
+        _cache[obj.name] = cached
+    shader, faces, line_shader, borders, points = cached[1]
+    gpu.state.blend_set("ALPHA")
+    gpu.state.depth_test_set("LESS_EQUAL")
+    gpu.matrix.push()
+    gpu.matrix.multiply_matrix(obj.matrix_world)
+    shader.bind()
+    faces.draw(shader)
+    if borders is not None:
+        gpu.state.line_width_set(2.0)
+        line_shader.bind()
+        line_shader.uniform_float("color", (0.05, 0.05, 0.05, 0.9))
+        borders.draw(line_shader)
+        gpu.state.line_width_set(1.0)
+    if points is not None:
+        gpu.state.point_size_set(8.0)
+        shader.bind()
+        points.draw(shader)
+        gpu.state.point_size_set(1.0)
+    gpu.matrix.pop()
+    gpu.state.depth_test_set("NONE")
+    gpu.state.blend_set("NONE")
+
+
+def register():
+    global _handler
+    if _handler is None and not bpy.app.background:
+        _handler = bpy.types.SpaceView3D.draw_handler_add(draw, (), "WINDOW", "POST_VIEW")
+
+
+def unregister():
+    global _handler
+    if _handler is not None:
+        bpy.types.SpaceView3D.draw_handler_remove(_handler, "WINDOW")
+        _handler = None
+    _cache.clear()
+
+
+classes = ()

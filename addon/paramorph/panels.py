@@ -1,0 +1,44 @@
+"""The "Paramorph" tab in the 3D View sidebar."""
+import textwrap
+
+import bpy
+
+from . import regions
+from .native import load_error, native
+
+
+class PARAMORPH_PT_main(bpy.types.Panel):
+    bl_label = "Paramorph"
+    bl_idname = "PARAMORPH_PT_main"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Paramorph"
+
+    def draw(self, context):
+        layout = self.layout
+        if native is None:
+            for i, line in enumerate(textwrap.wrap(load_error, 60)):
+                layout.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
+            return
+        settings = context.scene.paramorph
+        col = layout.column(align=True)
+        col.label(text="Parameterize")
+        col.operator("paramorph.sphere_map")
+        col = layout.column(align=True)
+        col.label(text="Segment")
+        col.operator("paramorph.segment_extremities")
+        col.operator("paramorph.detect_feature_regions")
+        obj = context.active_object
+        labels = regions.read_labels(obj.data) if obj is not None and obj.type == "MESH" else None
+        if labels is not None and len(labels):
+            col.label(text=f"{int(labels.max()) + 1} regions on {obj.name}")
+            row = col.row(align=True)
+            row.prop(settings, "region_index", text="")
+            row.operator("paramorph.select_region", text="Select").region = settings.region_index
+            row = col.row(align=True)
+            row.operator("paramorph.grow_regions", text="Grow")
+            row.operator("paramorph.shrink_regions", text="Shrink")
+            col.prop(settings, "show_overlay")
+
+
+classes = (PARAMORPH_PT_main,)

@@ -1,0 +1,21 @@
+"""Scene settings the sidebar panel edits; operators read their defaults from
+here, and their own properties (the redo panel) override them."""
+import bpy
+
+
+class ParamorphSettings(bpy.types.PropertyGroup):
+    show_overlay: bpy.props.BoolProperty(
+        name="Show Regions", default=True,
+        description="Draw the active mesh's regions, borders and feature points in the viewport")
+    region_index: bpy.props.IntProperty(
+        name="Region", default=0, min=0, description="Region to select by index")
+
+
+def register():
+    bpy.utils.register_class(ParamorphSettings)
+    bpy.types.Scene.paramorph = bpy.props.PointerProperty(type=ParamorphSettings)
+
+
+def unregister():
+    del bpy.types.Scene.paramorph
+    bpy.utils.unregister_class(ParamorphSettings)

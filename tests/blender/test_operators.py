@@ -1,0 +1,183 @@
+"""Every operator as a user runs it, inside real Blender: on the sample
+scenes, checking the data it writes, that undo and cancel restore the mesh,
+and that bad input gives a report and changes nothing."""
+import addon_utils
+import bpy
+import numpy as np
+import pytest
+
+import make_samples
+from paramorph import bridge, jobs, regions
+
+
+@pytest.fixture(autouse=True)
+def scene_with_addon():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("paramorph", default_set=True)
+    yield
+    addon_utils.disable("paramorph", default_set=True)
+
+
+def vertex_coordinates(mesh):
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3)
+
+
+def uv_array(mesh, name):
+    uv = np.empty(2 * len(mesh.loops), dtype=np.float32)
+    mesh.uv_layers[name].data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2)
+
+
+def mesh_state(mesh):
+    """What an operator might change: UV layer names, shape keys, attributes, selection."""
+    return (tuple(layer.name for layer in mesh.uv_layers),
+            None if mesh.shape_keys is None else tuple(k.name for k in mesh.shape_keys.key_blocks),
+            tuple(sorted(a.name for a in mesh.attributes if not a.name.startswith((".", "_")))),
+            regions.selected_polygons(mesh).tobytes())
+
+
+def test_operators_are_registered_and_searchable():
+    for idname in ("sphere_map", "segment_extremities", "detect_feature_regions",
+                   "select_region", "grow_regions", "shrink_regions"):
+        op = getattr(bpy.ops.paramorph, idname)
+        rna = op.get_rna_type()
+        assert rna.name and rna.description, idname  # F3 search shows name and tooltip
+    assert {"REGISTER", "UNDO"} <= set(bpy.types.PARAMORPH_OT_sphere_map.bl_options)
+    assert hasattr(bpy.types, "PARAMORPH_PT_main")
+
+
+def test_sphere_map_operator_writes_uv_and_shape_key():
+    obj = make_samples.build_blob(subdivisions=3)
+    assert bpy.ops.paramorph.sphere_map(weights="barycentric") == {"FINISHED"}
+    mesh = obj.data
+    assert "Sphere" in mesh.uv_layers and "Sphere" in mesh.shape_keys.key_blocks
+    uv = uv_array(mesh, "Sphere")
+    assert np.all(np.isfinite(uv)) and uv[:, 1].min() >= 0 and uv[:, 1].max() <= 1
+
+
+def test_sphere_map_in_edit_mode_returns_to_edit_mode():
+    obj = make_samples.build_blob(subdivisions=3)
+    bpy.ops.object.mode_set(mode="EDIT")
+    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    assert obj.mode == "EDIT"
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert "Sphere" in obj.data.uv_layers
+
+
+def test_open_mesh_reports_in_plain_words_and_changes_nothing():
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=6, y_subdivisions=6)
+    obj = bpy.context.active_object
+    before = mesh_state(obj.data)
+    with pytest.raises(RuntimeError, match=r"mesh has 1 hole: close them \(Fill Holes\) first"):
+        bpy.ops.paramorph.sphere_map()
+    assert mesh_state(obj.data) == before
+
+
+def test_a_cancelled_run_leaves_the_mesh_as_it_was(monkeypatch):
+    obj = make_samples.build_octopus(subdivisions=3)
+    before = mesh_state(obj.data)
+    # Esc in the modal operator sets the cancel flag; here the flag is set
+    # before the first progress report, so the native call stops at once.
+    monkeypatch.setattr(jobs.NativeJob, "_progress", lambda self, fraction, stage: False)
+    assert bpy.ops.paramorph.segment_extremities() == {"CANCELLED"}
+    assert bpy.ops.paramorph.sphere_map() == {"CANCELLED"}
+    assert mesh_state(obj.data) == before
+
+
+def test_the_job_runs_in_a_thread_and_stops_when_cancelled():
+    obj = make_samples.build_octopus(subdivisions=4)
+    V, F, _, _ = bridge.mesh_arrays(obj.data)
+    pm = bridge.require_native()
+    done = jobs.NativeJob(pm.sphere_map, V, F).start()
+    assert done.wait(120) and done.error is None and done.result.flipped == 0
+    assert done.fraction == 1.0
+    stopped = jobs.NativeJob(pm.sphere_map, V, F)
+    stopped.cancel()
+    stopped.start().wait(120)
+    assert isinstance(stopped.error, pm.Cancelled) and stopped.result is None
+
+
+def test_segment_extremities_labels_every_tentacle(tmp_path):
+    obj = make_samples.build_octopus(subdivisions=4, limbs=6)
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    labels = regions.read_labels(obj.data)
+    assert labels is not None and labels.shape == (len(obj.data.polygons),)
+    # One region per tentacle tip, another for the body's top.
+    V = vertex_coordinates(obj.data)
+    angles = 2 * np.pi * np.arange(6) / 6
+    tips = [int(np.argmax(V[:, :2] @ np.array([np.cos(a), np.sin(a)]))) for a in angles]
+    tips.append(int(np.argmax(V[:, 2])))
+    loop_vertex = np.empty(len(obj.data.loops), dtype=np.int32)
+    obj.data.loops.foreach_get("vertex_index", loop_vertex)
+    loop_total = np.empty(len(obj.data.polygons), dtype=np.int32)
+    obj.data.polygons.foreach_get("loop_total", loop_total)
+    poly_of_loop = np.repeat(np.arange(len(loop_total)), loop_total)
+    tip_regions = {int(labels[poly_of_loop[np.flatnonzero(loop_vertex == t)[0]]]) for t in tips}
+    assert len(tip_regions) == 7, (tip_regions, labels.max() + 1)
+
+    path = str(tmp_path / "octopus.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    np.testing.assert_array_equal(regions.read_labels(bpy.data.objects["Octopus"].data), labels)
+
+
+def test_detect_feature_regions_on_the_cad_part():
+    obj = make_samples.build_cad_part()
+    assert bpy.ops.paramorph.detect_feature_regions() == {"FINISHED"}
+    labels = regions.read_labels(obj.data)
+    # Plate sides, top and bottom, boss walls and tops, rib faces: many flat
+    # or smooth faces meeting at creases.
+    assert labels.max() + 1 >= 10, labels.max() + 1
+    # Every region is edge-connected... and faces across a 90 degree edge differ.
+    points = np.empty(len(obj.data.vertices), dtype=np.int32)
+    obj.data.attributes["paramorph_feature_point"].data.foreach_get("value", points)
+    assert (points == -1).sum() >= 4  # the corners / tips on the hull
+    assert set(np.unique(points)) <= {-1, 0, 1}
+
+
+def test_select_grow_and_shrink_by_regions():
+    obj = make_samples.build_octopus(subdivisions=3)
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    mesh = obj.data
+    labels = regions.read_labels(mesh)
+    assert bpy.ops.paramorph.select_region(region=1) == {"FINISHED"}
+    np.testing.assert_array_equal(regions.selected_polygons(mesh), labels == 1)
+    with pytest.raises(RuntimeError, match="has regions 0 to"):
+        bpy.ops.paramorph.select_region(region=int(labels.max()) + 1)
+
+    # Grow: a complete region gains its neighbours; shrink takes them back.
+    assert bpy.ops.paramorph.grow_regions() == {"FINISHED"}
+    grown = regions.selected_polygons(mesh)
+    adjacency = regions.region_adjacency(mesh, labels)
+    neighbours = set(adjacency[(adjacency == 1).any(axis=1)].ravel())
+    np.testing.assert_array_equal(grown, np.isin(labels, list(neighbours | {1})))
+    assert bpy.ops.paramorph.shrink_regions() == {"FINISHED"}
+    shrunk = regions.selected_polygons(mesh)
+    assert shrunk.sum() < grown.sum() and not (shrunk & ~grown).any()
+
+    # In Edit Mode the selection shows there and the mode stays.
+    bpy.ops.object.mode_set(mode="EDIT")
+    assert bpy.ops.paramorph.select_region(region=0) == {"FINISHED"}
+    assert obj.mode == "EDIT"
+    bpy.ops.object.mode_set(mode="OBJECT")
+    np.testing.assert_array_equal(regions.selected_polygons(mesh), labels == 0)
+
+
+def test_select_region_without_regions_reports():
+    make_samples.build_blob(subdivisions=2)
+    with pytest.raises(RuntimeError, match="has no regions"):
+        bpy.ops.paramorph.select_region(region=0)
+
+
+def test_undo_restores_the_mesh():
+    obj = make_samples.build_octopus(subdivisions=3)
+    bpy.ops.ed.undo_push(message="before")
+    before = mesh_state(obj.data)
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    assert mesh_state(bpy.data.objects["Octopus"].data) != before
+    bpy.ops.ed.undo()
+    bpy.ops.ed.undo()
+    assert mesh_state(bpy.data.objects["Octopus"].data) == before

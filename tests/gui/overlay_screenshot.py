@@ -1,0 +1,108 @@
+"""Runs inside a real Blender window (xvfb-run blender, not -b), driven by
+tests/gui/test_overlay_screenshot.py:
+
+    xvfb-run -a blender --factory-startup --python tests/gui/overlay_screenshot.py -- OUT_DIR
+
+Segments the octopus sample, takes a viewport screenshot with the region
+overlay off and one with it on, and writes pixel statistics of both to
+OUT_DIR/overlay.json (the test asserts on them), then quits."""
+import colorsys
+import json
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
+for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
+    sys.path.insert(0, path)
+OUT = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
+
+import addon_utils  # noqa: E402
+import make_samples  # noqa: E402
+
+steps = []
+stats = {}
+
+
+def view3d():
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"),
+               key=lambda a: a.width * a.height)
+    region = next(r for r in area.regions if r.type == "WINDOW")
+    return window, area, region
+
+
+def setup():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    addon_utils.enable("paramorph", default_set=True)
+    obj = make_samples.build_octopus(subdivisions=4)
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+        space = area.spaces.active
+        space.shading.type = "SOLID"
+        space.shading.color_type = "SINGLE"
+        space.shading.single_color = (0.8, 0.8, 0.8)
+        space.overlay.show_floor = False
+        space.overlay.show_axis_x = space.overlay.show_axis_y = False
+        bpy.ops.view3d.view_all()
+    obj.select_set(False)  # no selection outline in the picture
+    bpy.context.scene.paramorph.show_overlay = False
+    labels = np.empty(len(obj.data.polygons), dtype=np.int32)
+    obj.data.attributes["paramorph_region"].data.foreach_get("value", labels)
+    stats["regions"] = int(labels.max()) + 1
+
+
+def picture(name):
+    def take():
+        window, area, region = view3d()
+        area.tag_redraw()
+        path = os.path.join(OUT, f"{name}.png")
+        with bpy.context.temp_override(window=window, area=area, region=region):
+            bpy.ops.screen.screenshot_area(filepath=path)
+        image = bpy.data.images.load(path)
+        w, h = image.size
+        px = np.empty(w * h * 4, dtype=np.float32)
+        image.pixels.foreach_get(px)
+        rgb = px.reshape(-1, 4)[:, :3]
+        saturation = rgb.max(axis=1) - rgb.min(axis=1)
+        colored = rgb[saturation > 0.25]
+        hues = np.array([colorsys.rgb_to_hsv(*c)[0] for c in colored[:: max(1, len(colored) // 4000)]])
+        hue_bins = np.histogram(hues, bins=12, range=(0, 1))[0] if len(hues) else np.zeros(12)
+        stats[name] = {"pixels": int(w * h), "colored": int(len(colored)),
+                       "hue_bins_used": int((hue_bins > 0.02 * max(1, len(hues))).sum())}
+    return take
+
+
+def overlay_on():
+    bpy.context.scene.paramorph.show_overlay = True
+    view3d()[1].tag_redraw()
+
+
+def finish():
+    with open(os.path.join(OUT, "overlay.json"), "w") as f:
+        json.dump(stats, f)
+    bpy.ops.wm.quit_blender()
+
+
+steps = [setup, None, picture("off"), overlay_on, None, picture("on"), finish]
+
+
+def tick():
+    try:
+        step = steps.pop(0)
+        if step is not None:
+            step()
+    except Exception:
+        stats["error"] = traceback.format_exc()
+        steps[:] = [finish]
+    return 0.5 if steps else None
+
+
+os.makedirs(OUT, exist_ok=True)
+bpy.app.timers.register(tick, first_interval=1.0)
