@@ -231,7 +231,10 @@ ConvexHull convex_hull(const MatrixX3d& points) {
   QuietFile quiet;
   QhullRun run(quiet.get());
   qhT* qh = run.get();       // the name the FORALL macros expect
-  char options[] = "qhull";  // defaults: coplanar facets merged (C-0), no output
+  // Defaults (coplanar facets merged, C-0) plus Q5: skip computing the
+  // maximum outer-plane distance over all points (qh_check_maxout), which we
+  // never use; about 30% of Qhull's time on smooth 50k-point blobs.
+  char options[] = "qhull Q5";
   const int exitcode = qh_new_qhull(qh, 3, int(n), centred.data(), False, options,
                                     /*outfile=*/nullptr, quiet.get());
   PM_REQUIRE(exitcode != qh_ERRsingular, InvalidInputError, "convex hull: the ", n,
