@@ -49,6 +49,21 @@ inline MatrixX3i to_faces(const py::handle& obj, const char* name = "F") {
   return out;
 }
 
+/// (n,) float64 or float32 (or integer) -> VectorXd copy.
+inline VectorXd to_vector(const py::handle& obj, const char* name) {
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr, InvalidInputError, name, " must be a numpy array");
+  const auto kind = arr.dtype().kind();
+  PM_REQUIRE(kind == 'f' || kind == 'i' || kind == 'u', InvalidInputError, name,
+             " must be float64 or float32, got dtype ", std::string(py::str(arr.dtype())));
+  PM_REQUIRE(arr.ndim() == 1, InvalidInputError, name, " must have shape (n,), got ",
+             std::string(py::str(arr.attr("shape"))));
+  auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  VectorXd out(arr.shape(0));
+  if (arr.shape(0) > 0) std::copy(data.data(), data.data() + data.size(), out.data());
+  return out;
+}
+
 /// Eigen row-major matrix -> new numpy array (copy; results are small relative to solves).
 template <typename Derived>
 py::array to_numpy(const Eigen::MatrixBase<Derived>& m) {

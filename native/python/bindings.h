@@ -9,4 +9,5 @@ void bind_mesh(pybind11::module_& m);
 void bind_compute(pybind11::module_& m);
 void bind_sphere(pybind11::module_& m);
 void bind_planar(pybind11::module_& m);
+void bind_features(pybind11::module_& m);
 }  // namespace paramorph::python
