@@ -6,9 +6,12 @@
 // smallest distance to a facet's plane, so I(v) = min_f (h_f - n_f · v) over
 // the hull's outward unit normals n_f and support values h_f. The minimum is
 // found without testing every facet against every vertex: vertices are
-// sorted along a Morton curve and split recursively, and a node keeps only the
-// facets that can still be the nearest to one of its vertices (exact pruning,
-// see depth_below_planes). Worst case O(#V · #facets), typically far less.
+// sorted along a Morton curve and split in halves recursively; each node
+// bounds its vertices by an oriented box (their principal axes) and keeps only
+// the facets that can still be the nearest to one of them (exact pruning, see
+// depth_below_planes). Hull vertices are 0 without any test. Worst case
+// O(#V · #facets); on a 164k-vertex noisy sphere (2.2k facets) or a 100k-vertex
+// blob with 55k hull vertices (109k facets) Qhull dominates the time.
 #pragma once
 
 #include <vector>

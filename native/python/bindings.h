@@ -10,4 +10,5 @@ void bind_compute(pybind11::module_& m);
 void bind_sphere(pybind11::module_& m);
 void bind_planar(pybind11::module_& m);
 void bind_segmentation(pybind11::module_& m);
+void bind_features(pybind11::module_& m);
 }  // namespace paramorph::python

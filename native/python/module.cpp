@@ -2,7 +2,9 @@
 #include "python/bindings.h"
 
 PYBIND11_MODULE(paramorph_native, m) {
-  m.doc() = "paramorph native core: mesh validation, OpenCL devices, spherical parameterization";
+  m.doc() =
+      "paramorph native core: mesh validation, OpenCL devices, spherical and planar "
+      "parameterization, feature measures";
   m.attr("__version__") = "0.1.0";
   paramorph::python::bind_errors(m);
   paramorph::python::bind_mesh(m);
@@ -10,4 +12,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_sphere(m);
   paramorph::python::bind_planar(m);
   paramorph::python::bind_segmentation(m);
+  paramorph::python::bind_features(m);
 }

@@ -164,8 +164,12 @@ TEST(Concavity, PrunedMinimumEqualsBruteForce) {
   // through a box twice the blob's size.
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  MatrixX3d P(20000, 3);
-  for (Index k = 0; k < P.rows(); ++k) {
+  // Plus degenerate nodes: 300 copies of one point, 300 points on a segment.
+  MatrixX3d P(20600, 3);
+  for (Index k = 20000; k < 20300; ++k) P.row(k) << 0.1, -0.2, 0.3;
+  for (Index k = 20300; k < 20600; ++k)
+    P.row(k) = (k - 20300) / 300.0 * Eigen::RowVector3d(1, 0.5, -0.2);
+  for (Index k = 0; k < 20000; ++k) {
     const Eigen::RowVector3d q(unit(rng), unit(rng), unit(rng));
     P.row(k) = k % 2 ? Eigen::RowVector3d(V.row(k % V.rows()) * (0.9 + 0.2 * (unit(rng) + 1) / 2))
                      : Eigen::RowVector3d(2.0 * q);

@@ -5,8 +5,9 @@ Every function returns ``(V, F)``: V float64 (n, 3) positions, F int32 (m, 3)
 outside (outward normals, positive signed volume). Everything is deterministic
 (seeded RNGs), so a failing assertion names a reproducible mesh.
 
-Closed genus-0 families: icosphere, noisy_blob, tentacle_sphere, cad_box,
-bad_triangulation, sized_sphere_mesh (benchmarks). Broken families (error
+Closed genus-0 families: icosphere, noisy_blob, tentacle_sphere, limb_blob
+(straight or bent: two poses of one shape), box, cad_box, bad_triangulation,
+sized_sphere_mesh (benchmarks). Broken families (error
 paths): open_disc, torus, two_spheres, non_manifold_edge, pinched_spheres,
 flipped_face, loose_vertex, nan_vertex, out_of_range_index, zero_area_face.
 """
@@ -222,6 +223,69 @@ def _compact(V, F):
     remap = -np.ones(len(V), np.int64)
     remap[used] = np.arange(len(used))
     return V[used].astype(np.float64), remap[F].astype(np.int32)
+
+
+def limb_blob(subdivisions=3, limbs=1, bend_degrees=0.0, length=1.5, cut_angle=0.45, seed=1):
+    """A unit sphere with `limbs` stout fingers: tentacle_sphere with short,
+    thick tubes (radius about 0.8 * sin(cut_angle), 0.35 by default), one
+    closed genus-0 surface. bend_degrees > 0 bends every limb near its root
+    (bend_limb), giving a second pose of the same shape; subdivisions sets the
+    resolution of body and limbs alike."""
+    V, F = tentacle_sphere(subdivisions, tentacles=limbs, length=length, seed=seed,
+                           cut_angle=cut_angle)
+    if bend_degrees:
+        for axis in tentacle_directions(limbs, seed):
+            V = bend_limb(V, axis, root=1.15, bend_length=0.8, degrees=bend_degrees)
+    return V, F
+
+
+def bend_limb(V, axis, root, bend_length, degrees):
+    """Bends the part of a limb beyond `root` along unit `axis` (points with
+    V @ axis > root) like a finger joint: over the next `bend_length` the
+    centre line follows a circular arc turning by `degrees` and each cross
+    section turns with it (Barr's bend), beyond it the rest of the limb moves
+    rigidly. The centre line keeps its length; the arc's radius
+    bend_length / angle must exceed the limb's radius, or the inner side folds."""
+    d = np.asarray(axis, np.float64) / np.linalg.norm(axis)
+    e = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
+    e /= np.linalg.norm(e)
+    b = np.cross(d, e)
+    theta = np.radians(degrees)
+    R = bend_length / theta
+    t, u, w = V @ d, V @ e, V @ b
+    s = t - root
+    phi = theta * np.clip(s, 0.0, bend_length) / bend_length
+    beyond = np.maximum(s - bend_length, 0.0)
+    centre = (root * d + (R * np.sin(phi))[:, None] * d + (R * (1 - np.cos(phi)))[:, None] * e
+              + beyond[:, None] * (np.cos(phi)[:, None] * d + np.sin(phi)[:, None] * e))
+    bent = (centre + u[:, None] * (np.cos(phi)[:, None] * e - np.sin(phi)[:, None] * d)
+            + w[:, None] * b)
+    return np.where((s > 0)[:, None], bent, V)
+
+
+def box(cells=4, half_extents=(1.0, 1.0, 1.0)):
+    """Closed box [-h, h] (h = half_extents) whose six sides are cells x cells
+    grids of two triangles each, welded on an integer lattice; outward faces.
+    Its convex hull is the box itself, whatever the cells."""
+    n = int(cells)
+    corners = []
+    for a in range(3):
+        b, c = (a + 1) % 3, (a + 2) % 3          # e_b x e_c = e_a
+        i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+        i, j = i.ravel(), j.ravel()
+        for side in (0, 1):
+            p00 = np.zeros((len(i), 3), np.int64)
+            p00[:, a], p00[:, b], p00[:, c] = side * n, i, j
+            du, dv = np.eye(3, dtype=np.int64)[b], np.eye(3, dtype=np.int64)[c]
+            p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
+            if side:
+                corners += [np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)]
+            else:
+                corners += [np.stack([p00, p11, p10], 1), np.stack([p00, p01, p11], 1)]
+    lattice = np.concatenate(corners)
+    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
+    V = (2.0 * unique / n - 1.0) * np.asarray(half_extents, np.float64)
+    return V, weld.reshape(-1, 3).astype(np.int32)
 
 
 def cad_box(cells_per_unit=8, boss_height=0.25):
