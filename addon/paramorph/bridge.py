@@ -100,9 +100,12 @@ def add_shape_key(obj, coordinates, name, value=0.0):
 
 
 @contextlib.contextmanager
-def object_mode(context, obj):
+def object_mode(context, obj, face_select=False):
     """Object-mode mesh data for the duration (foreach_set writes go to the
-    mesh, not to the Edit Mode copy), then back to the mode it was in."""
+    mesh, not to the Edit Mode copy), then back to the mode it was in. With
+    face_select, Edit Mode comes back in face select mode, so a face
+    selection written here is not widened to faces whose vertices are all
+    selected."""
     mode = obj.mode
     if mode != "OBJECT":
         with context.temp_override(active_object=obj, object=obj):
@@ -110,6 +113,8 @@ def object_mode(context, obj):
     try:
         yield obj
     finally:
+        if mode == "EDIT" and face_select:
+            context.tool_settings.mesh_select_mode = (False, False, True)
         if mode != "OBJECT":
             with context.temp_override(active_object=obj, object=obj):
                 bpy.ops.object.mode_set(mode=mode)

@@ -43,9 +43,10 @@ class _Segmenter(NativeOperator):
             if isinstance(result, tuple):
                 points = result[1]
                 write_feature_points(obj.data, len(state["arrays"][0]), points.vertices, points.kinds)
+        obj.paramorph_regions = int(labels.max()) + 1 if len(labels) else 0
         for area in context.screen.areas if context.screen else ():
             area.tag_redraw()
-        return self.summary(result, int(labels.max()) + 1 if len(labels) else 0)
+        return self.summary(result, obj.paramorph_regions)
 
 
 class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):

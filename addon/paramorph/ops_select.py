@@ -9,8 +9,7 @@ from . import bridge, regions
 
 
 def _labels_or_report(operator, obj):
-    if obj.mode == "EDIT":
-        obj.update_from_editmode()
+    """Call in Object Mode: in Edit Mode attribute layers live in the BMesh."""
     labels = regions.read_labels(obj.data)
     if labels is None:
         operator.report({"ERROR"}, f"{obj.name} has no regions: run Segment Extremities or "
@@ -37,14 +36,14 @@ class PARAMORPH_OT_select_region(_RegionSelection, bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        labels = _labels_or_report(self, obj)
-        if labels is None:
-            return {"CANCELLED"}
-        count = int(labels.max()) + 1 if len(labels) else 0
-        if self.region >= count:
-            self.report({"ERROR"}, f"{obj.name} has regions 0 to {count - 1}, not {self.region}")
-            return {"CANCELLED"}
-        with bridge.object_mode(context, obj):
+        with bridge.object_mode(context, obj, face_select=True):
+            labels = _labels_or_report(self, obj)
+            if labels is None:
+                return {"CANCELLED"}
+            count = int(labels.max()) + 1 if len(labels) else 0
+            if self.region >= count:
+                self.report({"ERROR"}, f"{obj.name} has regions 0 to {count - 1}, not {self.region}")
+                return {"CANCELLED"}
             mask = labels == self.region
             if self.extend:
                 mask |= regions.selected_polygons(obj.data)
@@ -56,10 +55,11 @@ class PARAMORPH_OT_select_region(_RegionSelection, bpy.types.Operator):
         obj = context.active_object
         if context.area is None or context.area.type != "VIEW_3D" or context.region is None:
             return self.execute(context)
-        labels = _labels_or_report(self, obj)
+        with bridge.object_mode(context, obj):
+            labels = _labels_or_report(self, obj)
+            polygon = None if labels is None else _polygon_under_mouse(context, obj, event)
         if labels is None:
             return {"CANCELLED"}
-        polygon = _polygon_under_mouse(context, obj, event)
         if polygon is None:
             self.report({"WARNING"}, f"the mouse is not over {obj.name}")
             return {"CANCELLED"}
@@ -76,8 +76,6 @@ def _polygon_under_mouse(context, obj, event):
     to_local = obj.matrix_world.inverted()
     local_origin = to_local @ origin
     local_direction = (to_local.to_3x3() @ direction).normalized()
-    if obj.mode == "EDIT":
-        obj.update_from_editmode()
     hit, _, _, polygon = obj.ray_cast(local_origin, local_direction)
     return polygon if hit and polygon >= 0 else None
 
@@ -87,10 +85,10 @@ class _GrowShrink(_RegionSelection):
 
     def execute(self, context):
         obj = context.active_object
-        labels = _labels_or_report(self, obj)
-        if labels is None:
-            return {"CANCELLED"}
-        with bridge.object_mode(context, obj):
+        with bridge.object_mode(context, obj, face_select=True):
+            labels = _labels_or_report(self, obj)
+            if labels is None:
+                return {"CANCELLED"}
             selected = regions.selected_polygons(obj.data)
             mask = self.change(obj.data, labels, selected)
             regions.select_polygons(obj.data, mask)

@@ -3,7 +3,6 @@ import textwrap
 
 import bpy
 
-from . import regions
 from .native import load_error, native
 
 
@@ -29,9 +28,8 @@ class PARAMORPH_PT_main(bpy.types.Panel):
         col.operator("paramorph.segment_extremities")
         col.operator("paramorph.detect_feature_regions")
         obj = context.active_object
-        labels = regions.read_labels(obj.data) if obj is not None and obj.type == "MESH" else None
-        if labels is not None and len(labels):
-            col.label(text=f"{int(labels.max()) + 1} regions on {obj.name}")
+        if obj is not None and obj.type == "MESH" and obj.paramorph_regions > 0:
+            col.label(text=f"{obj.paramorph_regions} regions on {obj.name}")
             row = col.row(align=True)
             row.prop(settings, "region_index", text="")
             row.operator("paramorph.select_region", text="Select").region = settings.region_index

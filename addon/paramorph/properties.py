@@ -14,8 +14,13 @@ class ParamorphSettings(bpy.types.PropertyGroup):
 def register():
     bpy.utils.register_class(ParamorphSettings)
     bpy.types.Scene.paramorph = bpy.props.PointerProperty(type=ParamorphSettings)
+    # Readable in Edit Mode too, where the face attribute is not.
+    bpy.types.Object.paramorph_regions = bpy.props.IntProperty(
+        name="Regions", default=0, min=0, options={"HIDDEN"},
+        description="Regions in the paramorph_region face attribute (0: not segmented)")
 
 
 def unregister():
+    del bpy.types.Object.paramorph_regions
     del bpy.types.Scene.paramorph
     bpy.utils.unregister_class(ParamorphSettings)

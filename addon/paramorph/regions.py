@@ -31,8 +31,8 @@ def write_labels(mesh, labels, name=ATTRIBUTE):
 def read_labels(mesh, name=ATTRIBUTE):
     """Per-polygon labels, or None when the mesh has no segmentation."""
     attribute = mesh.attributes.get(name)
-    if attribute is None or attribute.domain != "FACE":
-        return None
+    if attribute is None or attribute.domain != "FACE" or len(attribute.data) != len(mesh.polygons):
+        return None  # none, or in Edit Mode (the layer lives in the BMesh then)
     labels = np.empty(len(mesh.polygons), dtype=np.int32)
     attribute.data.foreach_get("value", labels)
     return labels

@@ -169,15 +169,3 @@ def test_select_region_without_regions_reports():
     make_samples.build_blob(subdivisions=2)
     with pytest.raises(RuntimeError, match="has no regions"):
         bpy.ops.paramorph.select_region(region=0)
-
-
-def test_undo_restores_the_mesh():
-    obj = make_samples.build_octopus(subdivisions=3)
-    bpy.ops.ed.undo_push(message="before")
-    before = mesh_state(obj.data)
-    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
-    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
-    assert mesh_state(bpy.data.objects["Octopus"].data) != before
-    bpy.ops.ed.undo()
-    bpy.ops.ed.undo()
-    assert mesh_state(bpy.data.objects["Octopus"].data) == before

@@ -1,11 +1,14 @@
 """Runs inside a real Blender window (xvfb-run blender, not -b), driven by
 tests/gui/test_overlay_screenshot.py:
 
-    xvfb-run -a blender --factory-startup --python tests/gui/overlay_screenshot.py -- OUT_DIR
+    xvfb-run -a blender --python tests/gui/overlay_screenshot.py -- OUT_DIR
+
+(with BLENDER_USER_CONFIG holding preferences that turn the splash off).
 
 Segments the octopus sample, takes a viewport screenshot with the region
 overlay off and one with it on, and writes pixel statistics of both to
-OUT_DIR/overlay.json (the test asserts on them), then quits."""
+OUT_DIR/overlay.json (the test asserts on them); then undoes the
+segmentation (undo needs a window) and records what is left; then quits."""
 import colorsys
 import json
 import os
@@ -43,12 +46,15 @@ def setup():
     obj = make_samples.build_octopus(subdivisions=4)
     window, area, region = view3d()
     with bpy.context.temp_override(window=window, area=area, region=region):
-        assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+        bpy.ops.ed.undo_push(message="Octopus")
+        # As the UI calls it: with an undo step (bpy.ops from Python pushes none by default).
+        assert bpy.ops.paramorph.segment_extremities("EXEC_DEFAULT", True) == {"FINISHED"}
         space = area.spaces.active
         space.shading.type = "SOLID"
         space.shading.color_type = "SINGLE"
         space.shading.single_color = (0.8, 0.8, 0.8)
         space.overlay.show_floor = False
+        space.show_gizmo = False  # the navigation gizmo is coloured too
         space.overlay.show_axis_x = space.overlay.show_axis_y = False
         bpy.ops.view3d.view_all()
     obj.select_set(False)  # no selection outline in the picture
@@ -84,13 +90,26 @@ def overlay_on():
     view3d()[1].tag_redraw()
 
 
+def undo():
+    """Undo in a real window (-b has no undo stack): the segmentation goes."""
+    window, area, region = view3d()
+    obj = bpy.data.objects["Octopus"]
+    before = obj.data.attributes.get("paramorph_region") is not None
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.ed.undo()
+    obj = bpy.data.objects["Octopus"]
+    stats["undo"] = {"regions_before": before,
+                     "regions_after": obj.data.attributes.get("paramorph_region") is not None,
+                     "vertices_after": len(obj.data.vertices)}
+
+
 def finish():
     with open(os.path.join(OUT, "overlay.json"), "w") as f:
         json.dump(stats, f)
     bpy.ops.wm.quit_blender()
 
 
-steps = [setup, None, picture("off"), overlay_on, None, picture("on"), finish]
+steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo, finish]
 
 
 def tick():

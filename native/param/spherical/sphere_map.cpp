@@ -94,6 +94,18 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
     result.relaxation_sweeps =
         centroid_relaxation(mesh, X, options.max_relaxation_sweeps, 10,
                             ProgressWindow(progress, 0.05, 0.1));
+  if (kernels->count_flipped(X) > 0 && options.weights != Weights::Barycentric &&
+      options.init != InitialMap::Relaxation) {
+    // Negative cotangent weights (long thin triangles, e.g. coarse limbs) can
+    // fold the Tutte start beyond repair; uniform weights cannot fold it in
+    // the plane (Tutte's theorem), so start from those instead.
+    const SpringGraph uniform = build_spring_graph(mesh, edge_weights(mesh, Weights::Barycentric));
+    X = stereographic_tutte_map(mesh, uniform, *factor_punctured_laplacian(mesh, uniform));
+    if (kernels->count_flipped(X) > 0)
+      result.relaxation_sweeps +=
+          centroid_relaxation(mesh, X, options.max_relaxation_sweeps, 10,
+                              ProgressWindow(progress, 0.05, 0.1));
+  }
   const Index start_folds = kernels->count_flipped(X);
   PM_REQUIRE(start_folds == 0, ComputeError, "could not build a fold-free start: ", start_folds,
              " faces still folded after ", result.relaxation_sweeps, " relaxation sweeps");
