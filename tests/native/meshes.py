@@ -109,6 +109,21 @@ def noisy_blob(subdivisions=3, seed=0):
     return _blob(V, seed), F
 
 
+def coarse_octopus(subdivisions=2, limbs=6):
+    """A coarse octopus (as blend_samples' octopus at low resolution): a
+    sphere with `limbs` drooping tentacles pulled out of a few vertices each,
+    so their triangles are long and thin (negative cotangent weights)."""
+    V, F = icosphere(subdivisions)
+    P = V / np.linalg.norm(V, axis=1, keepdims=True)
+    angles = 2 * np.pi * np.arange(limbs) / limbs
+    D = np.stack([np.cos(angles), np.sin(angles), np.full(limbs, -0.35)], axis=1)
+    D /= np.linalg.norm(D, axis=1, keepdims=True)
+    pull = np.clip((P @ D.T - 0.9) / 0.1, 0.0, None).max(axis=1)
+    out = P * (1.0 + 2.2 * pull[:, None] ** 1.5)
+    out[:, 2] -= 0.3 * pull ** 2
+    return out, F
+
+
 def tentacle_directions(tentacles=6, seed=1):
     """Unit axes of tentacle_sphere's fingers: a Fibonacci sphere (evenly
     spread, so fingers never meet) turned by a seeded random rotation."""

@@ -217,3 +217,12 @@ def test_gil_is_released_while_solving():
     assert state["done"]
     # Holding the GIL would starve this loop for the whole solve.
     assert spins > 10000, spins
+
+
+def test_coarse_limbs_whose_cotangent_start_folds_still_map_fold_free():
+    # The cotangent-weight Tutte start of this mesh keeps folds through every
+    # relaxation sweep; sphere_map then starts from uniform weights instead.
+    V, F = meshes.coarse_octopus()
+    result = pm.sphere_map(V, F, weights="conformal")
+    assert result.flipped == 0
+    assert result.relaxation_sweeps > 0  # the cotangent start did fold
