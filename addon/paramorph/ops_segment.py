@@ -1,8 +1,10 @@
 """Segmentation operators: Segment Extremities (thesis 3.5.1) and Detect
 Feature Regions (4.5). Both store the regions as the integer face attribute
-"paramorph_region" (kept on save, shown by the overlay and by attribute
-viewers) and feature points in "paramorph_feature_point" (per vertex: +1
-concave, -1 convex, 0 none)."""
+"paramorph_region" (kept on save, read by the overlay and the selection
+tools), as the colour attribute "paramorph_region_color" (shown by Solid
+shading with Attribute colour and by Workbench renders, no overlay needed),
+and feature points in "paramorph_feature_point" (per vertex: +1 concave,
+-1 convex, 0 none)."""
 import bpy
 import numpy as np
 
@@ -40,6 +42,7 @@ class _Segmenter(NativeOperator):
         labels = regions.polygon_labels(obj.data, np.asarray(segmentation.face_labels), state["tri_poly"])
         with bridge.object_mode(context, obj):
             regions.write_labels(obj.data, labels)
+            regions.write_label_colors(obj.data, labels)
             if isinstance(result, tuple):
                 points = result[1]
                 write_feature_points(obj.data, len(state["arrays"][0]), points.vertices, points.kinds)

@@ -3,8 +3,6 @@ region borders as lines and feature points as dots, drawn by a `gpu` draw
 handler from the "paramorph_region" and "paramorph_feature_point"
 attributes. Shader names are the plain built-ins that exist from Blender 3.4
 to 5.x (no bgl, no 3D_ prefixed names)."""
-import colorsys
-
 import bpy
 import gpu
 import numpy as np
@@ -15,13 +13,6 @@ from . import regions
 FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
 _handler = None
 _cache = {}  # object name -> (key, batches)
-
-
-def region_colors(count, alpha=0.45):
-    """Distinct colours: hues spread by the golden ratio, full saturation."""
-    hues = (np.arange(count) * 0.618033988749895) % 1.0
-    rgb = np.array([colorsys.hsv_to_rgb(h, 0.85, 1.0) for h in hues], dtype=np.float32)
-    return np.hstack([rgb.reshape(-1, 3), np.full((count, 1), alpha, dtype=np.float32)])
 
 
 def _key(obj):
@@ -50,7 +41,7 @@ def _batches(obj, labels):
     size = float(np.linalg.norm(co.max(axis=0) - co.min(axis=0))) if len(co) else 1.0
     lifted = co + 2e-3 * size * normals.reshape(-1, 3)
 
-    colors = region_colors(int(labels.max()) + 1)
+    colors = regions.region_colors(int(labels.max()) + 1, alpha=0.45)
     corner_color = np.repeat(colors[labels[tri_poly]], 3, axis=0)
     shader = gpu.shader.from_builtin("SMOOTH_COLOR")
     faces = batch_for_shader(shader, "TRIS", {"pos": lifted[tris], "color": corner_color})

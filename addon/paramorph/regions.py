@@ -1,9 +1,19 @@
 """Region labels on Blender meshes: the integer face attribute that stores
 them, region adjacency, and selecting faces by region. numpy only; no Python
 loops over elements."""
+import colorsys
+
 import numpy as np
 
 ATTRIBUTE = "paramorph_region"
+COLOR_ATTRIBUTE = "paramorph_region_color"
+
+
+def region_colors(count, alpha=1.0):
+    """Distinct colours: hues spread by the golden ratio, strong saturation."""
+    hues = (np.arange(count) * 0.618033988749895) % 1.0
+    rgb = np.array([colorsys.hsv_to_rgb(h, 0.85, 1.0) for h in hues], dtype=np.float32)
+    return np.hstack([rgb.reshape(-1, 3), np.full((count, 1), alpha, dtype=np.float32)])
 
 
 def polygon_labels(mesh, triangle_labels, tri_poly):
@@ -25,6 +35,25 @@ def write_labels(mesh, labels, name=ATTRIBUTE):
     if attribute is None:
         attribute = mesh.attributes.new(name=name, type="INT", domain="FACE")
     attribute.data.foreach_set("value", np.ascontiguousarray(labels, dtype=np.int32))
+    mesh.update()
+
+
+def write_label_colors(mesh, labels, name=COLOR_ATTRIBUTE):
+    """The regions as a per-corner colour attribute, made the active colour,
+    so Solid shading with Attribute colour and Workbench renders show them
+    without the overlay."""
+    attribute = mesh.attributes.get(name)
+    if attribute is not None and (attribute.domain != "CORNER" or attribute.data_type != "BYTE_COLOR"):
+        mesh.attributes.remove(attribute)
+        attribute = None
+    if attribute is None:
+        attribute = mesh.attributes.new(name=name, type="BYTE_COLOR", domain="CORNER")
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    colors = region_colors(int(labels.max()) + 1 if len(labels) else 1)
+    attribute.data.foreach_set("color", colors[np.repeat(labels, loop_total)].ravel())
+    if hasattr(mesh, "color_attributes"):  # 3.2+
+        mesh.color_attributes.active_color = attribute
     mesh.update()
 
 

@@ -117,6 +117,14 @@ def test_segment_extremities_labels_every_tentacle(tmp_path):
     tip_regions = {int(labels[poly_of_loop[np.flatnonzero(loop_vertex == t)[0]]]) for t in tips}
     assert len(tip_regions) == 7, (tip_regions, labels.max() + 1)
 
+    # The same regions as colours (Solid shading / Workbench show them).
+    colors = np.empty(4 * len(obj.data.loops), dtype=np.float32)
+    obj.data.attributes[regions.COLOR_ATTRIBUTE].data.foreach_get("color", colors)
+    first_loop_color = colors.reshape(-1, 4)[np.cumsum(loop_total) - loop_total]
+    for r in range(labels.max() + 1):
+        assert len(np.unique(first_loop_color[labels == r], axis=0)) == 1
+    assert len(np.unique(first_loop_color, axis=0)) == labels.max() + 1
+
     path = str(tmp_path / "octopus.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
