@@ -119,9 +119,12 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     pinned_vertices = [int(np.argmax(P[:, 0])), int(np.argmin(P[:, 0])),
                        int(np.argmax(P[:, 1])), int(np.argmin(P[:, 1]))]
     pins = np.isin(loop_vertex, pinned_vertices)
-    layer = mesh.uv_layers.new(name="UVMap")
+    layer = mesh.uv_layers.active or mesh.uv_layers.new(name="UVMap")  # the grid comes with one
     layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
-    layer.data.foreach_set("pin_uv", pins)
+    if hasattr(layer, "pin"):  # 3.5+: data.pin_uv would write past a missing pin layer
+        layer.pin.foreach_set("value", pins)
+    else:
+        layer.data.foreach_set("pin_uv", pins)
     mesh.update()
     return obj
 

@@ -30,9 +30,8 @@ def write_feature_points(mesh, count, vertices, kinds):
 class _Segmenter(NativeOperator):
     def prepare(self, context):
         obj = context.active_object
-        if obj.mode == "EDIT":
-            obj.update_from_editmode()
-        V, F, tri_poly, _ = bridge.mesh_arrays(obj.data)
+        with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
+            V, F, tri_poly, _ = bridge.mesh_arrays(obj.data)
         state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly}
         return self.native_call(), (V, F), self.native_options(), state
 

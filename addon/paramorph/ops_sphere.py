@@ -25,9 +25,8 @@ class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
 
     def prepare(self, context):
         obj = context.active_object
-        if obj.mode == "EDIT":
-            obj.update_from_editmode()
-        V, F, _, _ = bridge.mesh_arrays(obj.data)
+        with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
+            V, F, _, _ = bridge.mesh_arrays(obj.data)
         state = {"arrays": (V, F), "object": obj.name}
         return native.sphere_map, (V, F), {"weights": self.weights, "backend": backend(context)}, state
 

@@ -23,6 +23,9 @@ class PARAMORPH_PT_main(bpy.types.Panel):
         col = layout.column(align=True)
         col.label(text="Parameterize")
         col.operator("paramorph.sphere_map")
+        row = col.row()
+        row.enabled = context.mode == "EDIT_MESH"
+        row.operator("paramorph.isometric_unwrap")
         col = layout.column(align=True)
         col.label(text="Segment")
         col.operator("paramorph.segment_extremities")

@@ -1,0 +1,99 @@
+"""Isometric Unwrap (thesis ch. 2): the selected faces, cut at seams, mapped
+to the plane with minimal stretch and no folds; Blender's pinned UVs are hard
+constraints and stay exactly where they are. Writes the active UV layer
+(creates "UVMap" when the mesh has none), only on the selected faces."""
+import bpy
+import numpy as np
+
+from . import bridge, uv_patch
+from .native import native
+from .native_operator import NativeOperator, UserError
+from .preferences import backend
+
+
+def _map_islands(islands, *, progress, max_iterations, backend, margin):
+    """One isometric_map per island; progress spread over them."""
+    results, stats = [], []
+    for i, island in enumerate(islands):
+        def island_progress(fraction, stage, i=i):
+            return progress((i + fraction) / len(islands), f"island {i + 1}/{len(islands)}: {stage}")
+        kwargs = {}
+        if len(island.pinned):
+            kwargs = {"pinned": island.pinned, "pinned_uv": island.pinned_uv}
+        m = native.isometric_map(island.V, island.F, max_iterations=max_iterations,
+                                 backend=backend, progress=island_progress, **kwargs)
+        results.append(m.uv)
+        stats.append(m)
+    return uv_patch.pack_free_islands(results, islands, margin), stats
+
+
+class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
+    """Unwrap the selected faces with minimal stretch and no folds, keeping pinned
+    UVs exactly in place (seams cut the surface)"""
+    bl_idname = "paramorph.isometric_unwrap"
+    bl_label = "Isometric Unwrap"
+    bl_options = {"REGISTER", "UNDO"}
+
+    max_iterations: bpy.props.IntProperty(
+        name="Iterations", default=1000, min=1, max=100000,
+        description="Most L-BFGS iterations per island")
+    margin: bpy.props.FloatProperty(
+        name="Margin", default=0.02, min=0.0, max=0.5,
+        description="Space between unpinned islands when they are packed into the unit square")
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH" and obj.mode == "EDIT"
+
+    def prepare(self, context):
+        obj = context.active_object
+        with bridge.object_mode(context, obj):  # UV layers are in the BMesh in Edit Mode
+            mesh = obj.data
+            selected = np.zeros(len(mesh.polygons), dtype=bool)
+            mesh.polygons.foreach_get("select", selected)
+            if not selected.any():
+                raise UserError("select the faces to unwrap")
+            layer = mesh.uv_layers.active
+            uv = uv_patch.read_uv(mesh, layer) if layer is not None else None
+            pins = uv_patch.uv_pins(mesh, layer) if layer is not None else None
+            islands = uv_patch.selected_islands(mesh, selected, uv, pins)
+        state = {"object": obj.name, "islands": islands,
+                 "layer": layer.name if layer is not None else "UVMap"}
+        options = {"max_iterations": self.max_iterations, "backend": backend(context),
+                   "margin": self.margin}
+        return _map_islands, (islands,), options, state
+
+    def finish(self, context, result, state):
+        results, stats = result
+        obj = bpy.data.objects[state["object"]]
+        with bridge.object_mode(context, obj):
+            mesh = obj.data
+            layer = mesh.uv_layers.get(state["layer"]) or mesh.uv_layers.new(name=state["layer"])
+            mesh.uv_layers.active = layer
+            uv = uv_patch.read_uv(mesh, layer)
+            for island, island_uv in zip(state["islands"], results):
+                uv[island.loops] = island_uv[island.loop_vertex]
+            bridge.write_uv_layer(mesh, uv, layer.name)
+        stretch = max(m.metrics["l2_max"] for m in stats)
+        pins = sum(len(island.pinned) for island in state["islands"])
+        return (f"Isometric Unwrap: {len(stats)} island(s), {pins} pinned UVs kept, "
+                f"{sum(m.iterations for m in stats)} iterations, {sum(m.flipped for m in stats)} folds, "
+                f"worst L2 stretch {stretch:.3f}")
+
+
+def _menu_entry(self, context):
+    self.layout.operator(PARAMORPH_OT_isometric_unwrap.bl_idname)
+
+
+classes = (PARAMORPH_OT_isometric_unwrap,)
+
+
+def register():
+    bpy.types.VIEW3D_MT_uv_map.append(_menu_entry)
+    bpy.types.IMAGE_MT_uvs.append(_menu_entry)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_uv_map.remove(_menu_entry)
+    bpy.types.IMAGE_MT_uvs.remove(_menu_entry)

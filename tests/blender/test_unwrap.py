@@ -1,0 +1,137 @@
+"""Isometric Unwrap in real Blender: pinned UVs stay exactly, no folds, only
+the selected faces change, seams and selection borders cut, islands pack."""
+import addon_utils
+import bpy
+import numpy as np
+import pytest
+
+import make_samples
+from paramorph import uv_patch
+
+
+@pytest.fixture(autouse=True)
+def scene_with_addon():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("paramorph", default_set=True)
+    yield
+    addon_utils.disable("paramorph", default_set=True)
+
+
+def layer_uv(mesh, name=None):
+    layer = mesh.uv_layers[name] if name else mesh.uv_layers.active
+    return uv_patch.read_uv(mesh, layer)
+
+
+def triangle_uv_areas(mesh, uv, polygon_mask):
+    mesh.calc_loop_triangles()
+    T = len(mesh.loop_triangles)
+    loops = np.empty(3 * T, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    poly = np.empty(T, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("polygon_index", poly)
+    t = uv[loops.reshape(-1, 3)[polygon_mask[poly]]]
+    e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    return 0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+
+
+def select_faces(mesh, mask):
+    from paramorph import regions
+    regions.select_polygons(mesh, mask)
+
+
+def unwrap(obj, **options):
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        return bpy.ops.paramorph.isometric_unwrap(**options)
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+
+
+def test_pinned_uvs_stay_exactly_and_nothing_folds():
+    obj = make_samples.build_pinned_disc()
+    mesh = obj.data
+    before = layer_uv(mesh)
+    pins = uv_patch.uv_pins(mesh, mesh.uv_layers.active)
+    assert pins.sum() >= 4
+    select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
+    assert unwrap(obj) == {"FINISHED"}
+    after = layer_uv(mesh)
+    np.testing.assert_array_equal(after[pins], before[pins])
+    assert np.abs(after - before).max() > 1e-3  # the rest moved
+    areas = triangle_uv_areas(mesh, after, np.ones(len(mesh.polygons), dtype=bool))
+    assert np.all(areas > 0), f"{np.count_nonzero(areas <= 0)} folded triangles"
+
+
+def test_only_selected_faces_change_and_islands_do_not_overlap():
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=10, y_subdivisions=10, size=2.0)
+    obj = bpy.context.active_object
+    mesh = obj.data
+    before = layer_uv(mesh)
+    centers = np.empty(3 * len(mesh.polygons), dtype=np.float32)
+    mesh.polygons.foreach_get("center", centers)
+    x = centers.reshape(-1, 3)[:, 0]
+    selected = (x < -0.3) | (x > 0.3)  # two strips: two islands, a gap between
+    select_faces(mesh, selected)
+    assert unwrap(obj) == {"FINISHED"}
+    after = layer_uv(mesh)
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    loop_selected = np.repeat(selected, loop_total)
+    np.testing.assert_array_equal(after[~loop_selected], before[~loop_selected])
+    assert np.all(after[loop_selected] >= -1e-6) and np.all(after[loop_selected] <= 1 + 1e-6)
+    left = np.repeat(x < -0.3, loop_total)
+    right = np.repeat(x > 0.3, loop_total)
+    lo_l, hi_l = after[left].min(axis=0), after[left].max(axis=0)
+    lo_r, hi_r = after[right].min(axis=0), after[right].max(axis=0)
+    assert np.any(hi_l < lo_r) or np.any(hi_r < lo_l), "island boxes overlap"
+    assert np.all(triangle_uv_areas(mesh, after, selected) > 0)
+
+
+def test_a_closed_selection_needs_a_seam_and_a_seam_opens_it():
+    bpy.ops.mesh.primitive_cube_add()
+    obj = bpy.context.active_object
+    mesh = obj.data
+    select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
+    before = layer_uv(mesh)
+    with pytest.raises(RuntimeError, match="closed surface: mark a seam"):
+        unwrap(obj)
+    np.testing.assert_array_equal(layer_uv(mesh), before)
+    # Seams on the 4 vertical edges and the top's edges except one: a cross-like net.
+    edge_vertices = np.empty(2 * len(mesh.edges), dtype=np.int32)
+    mesh.edges.foreach_get("vertices", edge_vertices)
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    z = co.reshape(-1, 3)[:, 2][edge_vertices.reshape(-1, 2)]
+    vertical = z[:, 0] != z[:, 1]
+    top = (z[:, 0] > 0) & (z[:, 1] > 0)
+    seams = vertical.copy()
+    seams[np.flatnonzero(top)[:3]] = True
+    mesh.edges.foreach_set("use_seam", seams)
+    assert unwrap(obj) == {"FINISHED"}
+    areas = triangle_uv_areas(mesh, layer_uv(mesh), np.ones(len(mesh.polygons), dtype=bool))
+    assert np.all(areas > 0)
+
+
+def test_bad_selections_report_and_change_nothing():
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=4, y_subdivisions=4)
+    obj = bpy.context.active_object
+    select_faces(obj.data, np.zeros(len(obj.data.polygons), dtype=bool))
+    before = layer_uv(obj.data)
+    with pytest.raises(RuntimeError, match="select the faces to unwrap"):
+        unwrap(obj)
+    np.testing.assert_array_equal(layer_uv(obj.data), before)
+    with pytest.raises(RuntimeError, match="poll"):  # Object Mode: Edit Mode only
+        bpy.ops.paramorph.isometric_unwrap()
+
+
+def test_a_mesh_without_uvs_gets_a_uv_layer():
+    obj = make_samples.build_pinned_disc()
+    mesh = obj.data
+    while mesh.uv_layers:
+        mesh.uv_layers.remove(mesh.uv_layers[0])
+    select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
+    assert unwrap(obj) == {"FINISHED"}
+    assert mesh.uv_layers.active is not None and mesh.uv_layers.active.name == "UVMap"
+    uv = layer_uv(mesh)
+    assert np.all(uv >= -1e-6) and np.all(uv <= 1 + 1e-6)
