@@ -13,8 +13,8 @@ bl_info = {
 }
 
 
-_CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "panels",
-                  "overlay")
+_CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
+                  "panels", "overlay")
 
 
 def _modules():

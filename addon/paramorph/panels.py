@@ -40,6 +40,40 @@ class PARAMORPH_PT_main(bpy.types.Panel):
             row.operator("paramorph.grow_regions", text="Grow")
             row.operator("paramorph.shrink_regions", text="Shrink")
             col.prop(settings, "show_overlay")
+        col = layout.column(align=True)
+        col.label(text="Shape search")
+        col.operator("paramorph.rank_similar_shapes")
+        listing = context.scene.paramorph_similar
+        if len(listing):
+            col.label(text=f"Closest to {settings.similar_reference}:")
+            for item in listing:
+                row = col.row(align=True)
+                op = row.operator("paramorph.select_object", text=item.object_name, emboss=False)
+                op.name = item.object_name
+                row.label(text=f"{item.distance:.3f}" if item.distance >= 0 else "n/a",
+                          icon="NONE" if item.distance >= 0 else "ERROR")
 
 
-classes = (PARAMORPH_PT_main,)
+class PARAMORPH_OT_select_object(bpy.types.Operator):
+    """Make this object the active, only selected one"""
+    bl_idname = "paramorph.select_object"
+    bl_label = "Select Object"
+    bl_options = {"REGISTER", "UNDO"}
+
+    name: bpy.props.StringProperty()
+
+    def execute(self, context):
+        obj = context.scene.objects.get(self.name)
+        if obj is None:
+            self.report({"ERROR"}, f"no object named {self.name} in the scene")
+            return {"CANCELLED"}
+        if context.mode != "OBJECT":
+            bpy.ops.object.mode_set(mode="OBJECT")
+        for other in context.selected_objects:
+            other.select_set(False)
+        obj.select_set(True)
+        context.view_layer.objects.active = obj
+        return {"FINISHED"}
+
+
+classes = (PARAMORPH_OT_select_object, PARAMORPH_PT_main)

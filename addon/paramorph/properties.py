@@ -9,6 +9,8 @@ class ParamorphSettings(bpy.types.PropertyGroup):
         description="Draw the active mesh's regions, borders and feature points in the viewport")
     region_index: bpy.props.IntProperty(
         name="Region", default=0, min=0, description="Region to select by index")
+    similar_reference: bpy.props.StringProperty(
+        name="Reference", description="The object the similar-shapes list was ranked against")
 
 
 def register():

@@ -39,8 +39,8 @@ def mesh_state(mesh):
 
 
 def test_operators_are_registered_and_searchable():
-    for idname in ("sphere_map", "segment_extremities", "detect_feature_regions",
-                   "select_region", "grow_regions", "shrink_regions"):
+    for idname in ("sphere_map", "isometric_unwrap", "segment_extremities", "detect_feature_regions",
+                   "select_region", "grow_regions", "shrink_regions", "rank_similar_shapes"):
         op = getattr(bpy.ops.paramorph, idname)
         rna = op.get_rna_type()
         assert rna.name and rna.description, idname  # F3 search shows name and tooltip
@@ -177,3 +177,28 @@ def test_select_region_without_regions_reports():
     make_samples.build_blob(subdivisions=2)
     with pytest.raises(RuntimeError, match="has no regions"):
         bpy.ops.paramorph.select_region(region=0)
+
+
+def test_rank_similar_shapes_lists_the_same_shape_first():
+    import mathutils
+    reference = make_samples.build_octopus(name="Reference", subdivisions=4, limbs=6)
+    # The same shape, finer and turned: the closest; a blob and a 3-limbed one further.
+    twin = make_samples.build_octopus(name="Twin", subdivisions=5, limbs=6)
+    twin.data.transform(mathutils.Matrix.Rotation(0.7, 4, "Z"))
+    make_samples.build_blob(name="Blob", subdivisions=4)
+    make_samples.build_octopus(name="Tripod", subdivisions=4, limbs=3)
+    bpy.ops.mesh.primitive_grid_add()  # open: listed as not comparable
+    open_grid = bpy.context.active_object
+    bpy.context.view_layer.objects.active = reference
+    assert bpy.ops.paramorph.rank_similar_shapes() == {"FINISHED"}
+    listing = bpy.context.scene.paramorph_similar
+    names = [item.object_name for item in listing]
+    assert names[0] == "Twin", [(i.object_name, i.distance) for i in listing]
+    assert names[-1] == open_grid.name and listing[len(listing) - 1].distance == -1.0
+    assert "not closed" in listing[len(listing) - 1].note
+    distances = [item.distance for item in listing][:-1]
+    assert distances == sorted(distances) and distances[0] < 0.5 * distances[1]
+
+    bpy.context.view_layer.objects.active = open_grid
+    with pytest.raises(RuntimeError, match="hole"):
+        bpy.ops.paramorph.rank_similar_shapes()
