@@ -46,12 +46,18 @@ def build_blob(name="Blob", subdivisions=5):
     return obj
 
 
-def build_octopus(name="Octopus", subdivisions=5, limbs=6):
+def build_octopus(name="Octopus", subdivisions=5, limbs=6, faces=None):
     """An octopus-like blob: an icosphere with `limbs` tentacles pulled out
-    around the equator, each bent slightly down (closed, genus 0)."""
+    around the equator, each bent slightly down (closed, genus 0). With
+    `faces`, the icosphere is decimated to about that many triangles first
+    (irregular triangles, like a scan)."""
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions, radius=1.0)
     obj = bpy.context.active_object
     obj.name = name
+    if faces is not None and faces < len(obj.data.polygons):
+        decimate = obj.modifiers.new("Decimate", "DECIMATE")
+        decimate.ratio = faces / len(obj.data.polygons)
+        _apply_all_modifiers(obj)
     mesh = obj.data
     co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
     mesh.vertices.foreach_get("co", co)

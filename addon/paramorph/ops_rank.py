@@ -1,17 +1,15 @@
 """Rank Similar Shapes (thesis 3.5.3): the scene's mesh objects listed by how
 close their shape signature (histogram of the area stretch of a conformal
 sphere map) is to the active object's. The list shows in the panel."""
-import hashlib
-
 import bpy
 import numpy as np
 
-from . import bridge
+from . import bridge, sphere_cache
 from .native import native
 from .native_operator import NativeOperator, UserError
 from .preferences import backend
 
-_signature_cache = {}  # (object name, geometry digest) -> signature
+_signature_cache = {}  # sphere_cache.key(V, F) -> signature
 
 
 class ParamorphSimilarShape(bpy.types.PropertyGroup):
@@ -19,10 +17,6 @@ class ParamorphSimilarShape(bpy.types.PropertyGroup):
     distance: bpy.props.FloatProperty(name="Distance", default=-1.0,
                                       description="Signature distance (0: the same shape); -1: not comparable")
     note: bpy.props.StringProperty(name="Note", description="Why the object could not be compared")
-
-
-def _digest(V, F):
-    return hashlib.sha1(V.tobytes() + F.tobytes()).hexdigest()
 
 
 def _signatures(items, *, progress, backend):
@@ -36,8 +30,10 @@ def _signatures(items, *, progress, backend):
         def item_progress(fraction, stage, i=i):
             return progress((i + fraction) / len(items), f"{name}: {stage}")
         try:
-            sphere = native.sphere_map(V, F, backend=backend, progress=item_progress)
-            signature = native.shape_signature(V, F, sphere=sphere.positions)
+            sphere = sphere_cache.get(key)
+            if sphere is None:
+                sphere = native.sphere_map(V, F, backend=backend, progress=item_progress).positions
+            signature = native.shape_signature(V, F, sphere=sphere)
             _signature_cache[key] = signature
             out.append((name, signature))
         except native.Cancelled:
@@ -63,7 +59,7 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
         for obj in [active] + others:  # a handful of objects, not mesh elements
             with bridge.object_mode(context, obj):
                 V, F, _, _ = bridge.mesh_arrays(obj.data)
-            items.append((obj.name, (obj.name, _digest(V, F)), V, F))
+            items.append((obj.name, sphere_cache.key(V, F), V, F))
         state = {"active": active.name, "arrays": (items[0][2], items[0][3])}
         return _signatures, (items,), {"backend": backend(context)}, state
 

@@ -8,7 +8,7 @@ and feature points in "paramorph_feature_point" (per vertex: +1 concave,
 import bpy
 import numpy as np
 
-from . import bridge, regions
+from . import bridge, regions, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 
@@ -33,7 +33,7 @@ class _Segmenter(NativeOperator):
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, tri_poly, _ = bridge.mesh_arrays(obj.data)
         state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly}
-        return self.native_call(), (V, F), self.native_options(), state
+        return self.native_call(), (V, F), self.native_options(V, F), state
 
     def finish(self, context, result, state):
         obj = bpy.data.objects[state["object"]]
@@ -68,8 +68,13 @@ class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):
     def native_call(self):
         return native.segment_extremities
 
-    def native_options(self):
-        return {"threshold": self.threshold, "min_area": self.min_area}
+    def native_options(self, V, F):
+        # The conformal map Sphere Map just computed on this geometry, if any.
+        options = {"threshold": self.threshold, "min_area": self.min_area}
+        sphere = sphere_cache.get(sphere_cache.key(V, F, "conformal"))
+        if sphere is not None:
+            options["sphere"] = sphere
+        return options
 
     def summary(self, result, count):
         return f"Segment Extremities: {count} regions"
@@ -108,7 +113,7 @@ class PARAMORPH_OT_detect_feature_regions(_Segmenter, bpy.types.Operator):
     def native_call(self):
         return _feature_regions_and_points
 
-    def native_options(self):
+    def native_options(self, V, F):
         return {"normal_angle": np.degrees(self.normal_angle),
                 "concavity_threshold": self.concavity_threshold,
                 "min_area": self.min_area, "spacing": self.spacing}

@@ -2,7 +2,7 @@
 coordinates, shape key "Sphere"."""
 import bpy
 
-from . import bridge
+from . import bridge, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 from .preferences import backend
@@ -27,10 +27,12 @@ class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
         obj = context.active_object
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, _, _ = bridge.mesh_arrays(obj.data)
-        state = {"arrays": (V, F), "object": obj.name}
+        state = {"arrays": (V, F), "object": obj.name,
+                 "cache_key": sphere_cache.key(V, F, self.weights)}
         return native.sphere_map, (V, F), {"weights": self.weights, "backend": backend(context)}, state
 
     def finish(self, context, result, state):
+        sphere_cache.put(state["cache_key"], result.positions)
         obj = bpy.data.objects[state["object"]]
         with bridge.object_mode(context, obj):
             bridge.write_sphere_map(obj, state["arrays"][0], result, shape_key=self.shape_key)

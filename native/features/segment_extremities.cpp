@@ -39,9 +39,10 @@ Segmentation grow_stretch_regions(const TriMesh& mesh, const VectorXd& stretch, 
   std::sort(order.begin(), order.end(),
             [&](Index a, Index b) { return level[a] != level[b] ? level[a] > level[b] : a < b; });
   double body_level = level[order.back()];
+  const double half = 0.5 * sphere_weight.sum();
   double above = 0;
   for (Index v : order)
-    if ((above += sphere_weight[v]) >= 0.5 * sphere_weight.sum()) {
+    if ((above += sphere_weight[v]) >= half) {
       body_level = level[v];
       break;
     }

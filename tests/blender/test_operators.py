@@ -202,3 +202,22 @@ def test_rank_similar_shapes_lists_the_same_shape_first():
     bpy.context.view_layer.objects.active = open_grid
     with pytest.raises(RuntimeError, match="hole"):
         bpy.ops.paramorph.rank_similar_shapes()
+
+
+def test_segmentation_reuses_the_sphere_map_of_the_same_geometry(monkeypatch):
+    from paramorph import sphere_cache
+    sphere_cache.clear()
+    obj = make_samples.build_octopus(subdivisions=3)
+    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    calls = []
+    pm = bridge.require_native()
+    original = pm.segment_extremities
+    monkeypatch.setattr(pm, "segment_extremities",
+                        lambda *a, **k: calls.append("sphere" in k) or original(*a, **k))
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    # Moving a vertex changes the geometry: the map is computed afresh.
+    co = vertex_coordinates(obj.data)
+    co[0] *= 1.01
+    obj.data.vertices.foreach_set("co", co.ravel())
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    assert calls == [True, False]
