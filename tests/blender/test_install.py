@@ -171,3 +171,36 @@ def test_extension_zip_installs_enables_and_loads_its_module(tmp_path):
     assert result["native_name"] == package + ".paramorph_native"
     assert not result["top_level_native"]
     assert result["closed_genus0"] is True
+
+
+MISSING_NATIVE = r"""
+import json, sys
+import addon_utils, bpy
+assert addon_utils.enable('paramorph', default_set=True) is not None
+native = sys.modules['paramorph.native']
+bpy.ops.mesh.primitive_ico_sphere_add()
+try:
+    bpy.ops.paramorph.sphere_map()
+    report = ""
+except RuntimeError as error:
+    report = str(error)
+print({mark!r} + json.dumps({{
+    "enabled": sorted(a.module for a in bpy.context.preferences.addons),
+    "native_missing": native.native is None,
+    "load_error": native.load_error,
+    "panel": hasattr(bpy.types, "PARAMORPH_PT_main"),
+    "report": report,
+}}))
+"""
+
+
+def test_without_its_native_module_the_addon_loads_and_says_how_to_build_it(tmp_path):
+    env = user_env(tmp_path)
+    installed = tmp_path / "user" / "scripts" / "addons" / "paramorph"
+    shutil.copytree(os.path.join(REPO, "addon", "paramorph"), installed,
+                    ignore=shutil.ignore_patterns("*.so", "__pycache__"))
+    result = run_blender(MISSING_NATIVE.format(mark=MARK), env)  # no build folder on sys.path
+    assert "paramorph" in result["enabled"] and result["panel"]
+    assert result["native_missing"]
+    assert "scripts/build.sh" in result["load_error"]
+    assert "could not be loaded" in result["report"] and "scripts/build.sh" in result["report"]
