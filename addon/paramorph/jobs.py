@@ -5,6 +5,18 @@ read before the job starts and written after it ends, on the main thread, so
 a cancelled or failed job leaves the scene as it was."""
 import threading
 
+_running = set()  # jobs whose thread is alive (started with start())
+
+
+def running():
+    """The jobs running in threads now (the panel shows them with a Cancel button)."""
+    return [job for job in list(_running) if not job.done()]
+
+
+def cancel_all():
+    for job in running():
+        job.cancel()
+
 
 class NativeJob:
     def __init__(self, function, *args, **kwargs):
@@ -28,9 +40,12 @@ class NativeJob:
             self.result = self._function(*self._args, progress=self._progress, **self._kwargs)
         except BaseException as error:  # handed to the main thread, reported there
             self.error = error
+        finally:
+            _running.discard(self)
 
     def start(self):
         self._thread = threading.Thread(target=self._run, name="paramorph-native", daemon=True)
+        _running.add(self)
         self._thread.start()
         return self
 

@@ -73,6 +73,9 @@ class NativeOperator:
             return {"PASS_THROUGH"}
         if not job.done():
             context.window_manager.progress_update(int(100 * job.fraction))
+            for area in context.screen.areas if context.screen else ():
+                if area.type == "VIEW_3D":
+                    area.tag_redraw()  # the panel's progress line
             if context.workspace is not None:
                 text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%  (Esc to cancel)"
                 context.workspace.status_text_set(text)

@@ -3,6 +3,7 @@ import textwrap
 
 import bpy
 
+from . import jobs
 from .native import load_error, native
 
 
@@ -20,6 +21,10 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                 layout.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
             return
         settings = context.scene.paramorph
+        for job in jobs.running():
+            row = layout.row(align=True)
+            row.label(text=f"{job.stage} {100 * job.fraction:.0f}%", icon="SORTTIME")
+            row.operator("paramorph.cancel_jobs", text="", icon="CANCEL")
         col = layout.column(align=True)
         col.label(text="Parameterize")
         col.operator("paramorph.sphere_map")
@@ -76,4 +81,14 @@ class PARAMORPH_OT_select_object(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (PARAMORPH_OT_select_object, PARAMORPH_PT_main)
+class PARAMORPH_OT_cancel_jobs(bpy.types.Operator):
+    """Stop the running paramorph computation (like Esc); the mesh stays as it was"""
+    bl_idname = "paramorph.cancel_jobs"
+    bl_label = "Cancel Paramorph Computation"
+
+    def execute(self, context):
+        jobs.cancel_all()
+        return {"FINISHED"}
+
+
+classes = (PARAMORPH_OT_select_object, PARAMORPH_OT_cancel_jobs, PARAMORPH_PT_main)

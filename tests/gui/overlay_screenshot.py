@@ -8,7 +8,10 @@ tests/gui/test_overlay_screenshot.py:
 Segments the octopus sample, takes a viewport screenshot with the region
 overlay off and one with it on, and writes pixel statistics of both to
 OUT_DIR/overlay.json (the test asserts on them); then undoes the
-segmentation (undo needs a window) and records what is left; then quits."""
+segmentation (undo needs a window) and records what is left; then runs
+Sphere Map as users do (INVOKE: a modal operator, the native call in a
+thread), cancels it as Esc or the panel's Cancel button would, checks the
+mesh is untouched, runs it again to the end; then quits."""
 import colorsys
 import json
 import os
@@ -26,6 +29,7 @@ OUT = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
+from paramorph import jobs  # noqa: E402
 
 steps = []
 stats = {}
@@ -103,13 +107,52 @@ def undo():
                      "vertices_after": len(obj.data.vertices)}
 
 
+def modal_setup():
+    """A mesh big enough that the sphere map runs for a while in its thread."""
+    bpy.data.objects.remove(bpy.data.objects["Octopus"], do_unlink=True)
+    obj = make_samples.build_octopus(name="Big", subdivisions=7)
+    bpy.context.view_layer.objects.active = obj
+    stats["modal"] = {"faces": len(obj.data.polygons)}
+
+
+def modal_invoke(label):
+    def invoke():
+        window, area, region = view3d()
+        with bpy.context.temp_override(window=window, area=area, region=region):
+            stats["modal"][label + "_invoke"] = sorted(bpy.ops.paramorph.sphere_map("INVOKE_DEFAULT"))
+        stats["modal"][label + "_running"] = len(jobs.running())
+    return invoke
+
+
+def modal_cancel():
+    stats["modal"]["running_at_cancel"] = len(jobs.running())
+    jobs.cancel_all()
+
+
+def wait_for_jobs():
+    """Repeats (by re-inserting itself) until no job runs, for at most 60 s."""
+    stats["modal"]["waits"] = stats["modal"].get("waits", 0) + 1
+    if jobs.running() and stats["modal"]["waits"] < 120:
+        steps.insert(0, wait_for_jobs)
+
+
+def modal_check(label):
+    def check():
+        mesh = bpy.data.objects["Big"].data
+        stats["modal"][label] = {"sphere_uv": "Sphere" in mesh.uv_layers,
+                                 "shape_keys": mesh.shape_keys is not None}
+    return check
+
+
 def finish():
     with open(os.path.join(OUT, "overlay.json"), "w") as f:
         json.dump(stats, f)
     bpy.ops.wm.quit_blender()
 
 
-steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo, finish]
+steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
+         modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
+         modal_invoke("second"), wait_for_jobs, None, modal_check("finished"), finish]
 
 
 def tick():

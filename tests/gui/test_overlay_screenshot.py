@@ -37,3 +37,10 @@ def test_region_overlay_colours_the_viewport(tmp_path):
     # Undo takes the segmentation back and keeps the mesh.
     assert stats["undo"]["regions_before"] and not stats["undo"]["regions_after"], stats
     assert stats["undo"]["vertices_after"] > 0, stats
+    # The modal operator: running in a thread, cancelled -> nothing written,
+    # run again -> finished and written.
+    modal = stats["modal"]
+    assert modal["first_invoke"] == ["RUNNING_MODAL"] and modal["running_at_cancel"] == 1, modal
+    assert modal["cancelled"] == {"sphere_uv": False, "shape_keys": False}, modal
+    assert modal["second_invoke"] == ["RUNNING_MODAL"], modal
+    assert modal["finished"] == {"sphere_uv": True, "shape_keys": True}, modal
