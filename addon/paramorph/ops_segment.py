@@ -12,21 +12,6 @@ from . import bridge, regions, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 
-FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
-
-
-def write_feature_points(mesh, count, vertices, kinds):
-    values = np.zeros(count, dtype=np.int32)
-    values[np.asarray(vertices, dtype=np.int64)] = np.asarray(kinds, dtype=np.int32)
-    attribute = mesh.attributes.get(FEATURE_POINT_ATTRIBUTE)
-    if attribute is not None and (attribute.domain != "POINT" or attribute.data_type != "INT"):
-        mesh.attributes.remove(attribute)
-        attribute = None
-    if attribute is None:
-        attribute = mesh.attributes.new(FEATURE_POINT_ATTRIBUTE, "INT", "POINT")
-    attribute.data.foreach_set("value", values)
-
-
 class _Segmenter(NativeOperator):
     def prepare(self, context):
         obj = context.active_object
@@ -44,7 +29,7 @@ class _Segmenter(NativeOperator):
             regions.write_label_colors(obj.data, labels)
             if isinstance(result, tuple):
                 points = result[1]
-                write_feature_points(obj.data, len(state["arrays"][0]), points.vertices, points.kinds)
+                regions.write_feature_points(obj.data, points.vertices, points.kinds)
         obj.paramorph_regions = int(labels.max()) + 1 if len(labels) else 0
         for area in context.screen.areas if context.screen else ():
             area.tag_redraw()

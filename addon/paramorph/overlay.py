@@ -10,7 +10,6 @@ from gpu_extras.batch import batch_for_shader
 
 from . import regions
 
-FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
 _handler = None
 _cache = {}  # object name -> (key, batches)
 
@@ -65,7 +64,7 @@ def _batches(obj, labels):
     borders = batch_for_shader(line_shader, "LINES", {"pos": lines}) if len(border) else None
 
     points = None
-    attribute = mesh.attributes.get(FEATURE_POINT_ATTRIBUTE)
+    attribute = mesh.attributes.get(regions.FEATURE_POINT_ATTRIBUTE)
     if attribute is not None and attribute.domain == "POINT":
         kinds = np.empty(len(mesh.vertices), dtype=np.int32)
         attribute.data.foreach_get("value", kinds)

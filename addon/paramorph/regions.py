@@ -7,6 +7,7 @@ import numpy as np
 
 ATTRIBUTE = "paramorph_region"
 COLOR_ATTRIBUTE = "paramorph_region_color"
+FEATURE_POINT_ATTRIBUTE = "paramorph_feature_point"
 
 
 def region_colors(count, alpha=1.0):
@@ -26,28 +27,34 @@ def polygon_labels(mesh, triangle_labels, tri_poly):
     return counts.argmax(axis=1).astype(np.int32)
 
 
-def write_labels(mesh, labels, name=ATTRIBUTE):
-    """Stores per-polygon labels as an INT face attribute (kept on save)."""
+def attribute_for_writing(mesh, name, data_type, domain):
+    """The attribute `name` with this type and domain: reused, or (re)created."""
     attribute = mesh.attributes.get(name)
-    if attribute is not None and (attribute.domain != "FACE" or attribute.data_type != "INT"):
+    if attribute is not None and (attribute.domain != domain or attribute.data_type != data_type):
         mesh.attributes.remove(attribute)
         attribute = None
-    if attribute is None:
-        attribute = mesh.attributes.new(name=name, type="INT", domain="FACE")
+    return attribute or mesh.attributes.new(name=name, type=data_type, domain=domain)
+
+
+def write_labels(mesh, labels, name=ATTRIBUTE):
+    """Stores per-polygon labels as an INT face attribute (kept on save)."""
+    attribute = attribute_for_writing(mesh, name, "INT", "FACE")
     attribute.data.foreach_set("value", np.ascontiguousarray(labels, dtype=np.int32))
     mesh.update()
+
+
+def write_feature_points(mesh, vertices, kinds, name=FEATURE_POINT_ATTRIBUTE):
+    """Per vertex: +1 concave feature point, -1 convex, 0 none (INT point attribute)."""
+    values = np.zeros(len(mesh.vertices), dtype=np.int32)
+    values[np.asarray(vertices, dtype=np.int64)] = np.asarray(kinds, dtype=np.int32)
+    attribute_for_writing(mesh, name, "INT", "POINT").data.foreach_set("value", values)
 
 
 def write_label_colors(mesh, labels, name=COLOR_ATTRIBUTE):
     """The regions as a per-corner colour attribute, made the active colour,
     so Solid shading with Attribute colour and Workbench renders show them
     without the overlay."""
-    attribute = mesh.attributes.get(name)
-    if attribute is not None and (attribute.domain != "CORNER" or attribute.data_type != "BYTE_COLOR"):
-        mesh.attributes.remove(attribute)
-        attribute = None
-    if attribute is None:
-        attribute = mesh.attributes.new(name=name, type="BYTE_COLOR", domain="CORNER")
+    attribute = attribute_for_writing(mesh, name, "BYTE_COLOR", "CORNER")
     loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
     mesh.polygons.foreach_get("loop_total", loop_total)
     colors = region_colors(int(labels.max()) + 1 if len(labels) else 1)

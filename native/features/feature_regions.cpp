@@ -26,50 +26,6 @@ Eigen::MatrixXd unit_face_normals(const TriMesh& mesh) {
   return N;
 }
 
-/// Splits the regions of `s` across edges whose faces' normals differ by
-/// more than the angle whose cosine is `min_cos`; each piece keeps its
-/// region's seed if it holds it, else takes its deepest vertex.
-Segmentation split_at_creases(const TriMesh& mesh, const Segmentation& s,
-                              const Eigen::MatrixXd& normals, double min_cos,
-                              const VectorXd& level) {
-  const MatrixX3i& F = mesh.F();
-  const MatrixX3i& face_edges = mesh.face_edges();
-  const Csr& edge_faces = mesh.edge_faces();
-  Segmentation out;
-  out.face_labels = VectorXi::Constant(mesh.num_faces(), -1);
-  std::vector<bool> seed_taken(s.seeds.size(), false);
-  std::vector<Index> stack;
-  for (Index start = 0; start < mesh.num_faces(); ++start) {
-    if (out.face_labels[start] >= 0) continue;
-    const Index label = s.face_labels[start], piece = out.regions();
-    Index deepest = F(start, 0);
-    bool holds_seed = false;
-    out.face_labels[start] = piece;
-    stack.assign(1, start);
-    while (!stack.empty()) {
-      const Index f = stack.back();
-      stack.pop_back();
-      for (int k = 0; k < 3; ++k) {
-        const Index v = F(f, k);
-        holds_seed = holds_seed || v == s.seeds[label];
-        if (level[v] > level[deepest]) deepest = v;
-        const Index e = face_edges(f, k);
-        for (Index i = edge_faces.begin(e); i < edge_faces.end(e); ++i) {
-          const Index g = edge_faces.items[i];
-          if (out.face_labels[g] < 0 && s.face_labels[g] == label &&
-              normals.row(f).dot(normals.row(g)) >= min_cos)
-            out.face_labels[g] = piece, stack.push_back(g);
-        }
-      }
-    }
-    const bool keeps_seed = holds_seed && !seed_taken[label];
-    if (keeps_seed) seed_taken[label] = true;
-    out.seeds.push_back(keeps_seed ? s.seeds[label] : deepest);
-  }
-  summarise_regions(mesh, out);
-  return out;
-}
-
 }  // namespace
 
 Segmentation grow_feature_regions(const TriMesh& mesh, const VectorXd& concavity,
@@ -88,10 +44,12 @@ Segmentation grow_feature_regions(const TriMesh& mesh, const VectorXd& concavity
   const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   const VectorXd depth = concavity / diagonal;  // scale-free
 
-  const Segmentation pockets = peak_regions(mesh, depth, 0.0, o.concavity_threshold);
+  Segmentation s = peak_regions(mesh, depth, 0.0, o.concavity_threshold);
   const Eigen::MatrixXd normals = unit_face_normals(mesh);
-  const double radians = o.normal_angle * M_PI / 180.0;
-  Segmentation s = split_at_creases(mesh, pockets, normals, std::cos(radians), depth);
+  const double radians = o.normal_angle * M_PI / 180.0, min_cos = std::cos(radians);
+  split_regions(mesh, depth, s, [&](Index f, Index g) {  // not across creases
+    return normals.row(f).dot(normals.row(g)) >= min_cos;
+  });
 
   if (o.min_area > 0 && s.regions() > 1) {
     // Similarity in units of the thresholds: a normal turned by normal_angle

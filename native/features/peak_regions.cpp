@@ -49,51 +49,6 @@ VectorXi label_faces(const TriMesh& mesh, const std::vector<Index>& vertex_regio
   return face_label;
 }
 
-/// Splits every region into its edge-connected pieces (an arc of the join
-/// tree may run down both flanks of a ridge); a new piece is seeded at its
-/// highest vertex.
-void split_into_connected_pieces(const TriMesh& mesh, const VectorXd& level, Segmentation& s) {
-  const MatrixX3i& F = mesh.F();
-  const MatrixX3i& face_edges = mesh.face_edges();
-  const Csr& edge_faces = mesh.edge_faces();
-  VectorXi piece = VectorXi::Constant(mesh.num_faces(), -1);
-  std::vector<Index> seeds, stack, origin;
-  std::vector<bool> seed_used(s.seeds.size(), false);
-  for (Index start = 0; start < mesh.num_faces(); ++start) {
-    if (piece[start] >= 0) continue;
-    const Index label = s.face_labels[start], id = Index(seeds.size());
-    Index highest = F(start, 0);
-    bool has_seed = false;
-    piece[start] = id;
-    stack.assign(1, start);
-    while (!stack.empty()) {
-      const Index f = stack.back();
-      stack.pop_back();
-      for (int k = 0; k < 3; ++k) {
-        const Index v = F(f, k);
-        has_seed = has_seed || v == s.seeds[label];
-        if (level[v] > level[highest]) highest = v;
-        const Index e = face_edges(f, k);
-        for (Index i = edge_faces.begin(e); i < edge_faces.end(e); ++i) {
-          const Index g = edge_faces.items[i];
-          if (piece[g] < 0 && s.face_labels[g] == label) piece[g] = id, stack.push_back(g);
-        }
-      }
-    }
-    const bool keeps_seed = has_seed && !seed_used[label];
-    seed_used[label] = seed_used[label] || keeps_seed;
-    seeds.push_back(keeps_seed ? s.seeds[label] : highest);
-    origin.push_back(2 * label + (keeps_seed ? 0 : 1));
-  }
-  // Pieces numbered in their regions' order, the one with the seed first.
-  std::vector<Index> order(seeds.size()), number(seeds.size());
-  std::iota(order.begin(), order.end(), Index(0));
-  std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return origin[a] < origin[b]; });
-  s.seeds.clear();
-  for (Index i = 0; i < Index(order.size()); ++i) number[order[i]] = i, s.seeds.push_back(seeds[order[i]]);
-  for (Index f = 0; f < mesh.num_faces(); ++f) s.face_labels[f] = number[piece[f]];
-}
-
 }  // namespace
 
 Segmentation peak_regions(const TriMesh& mesh, const VectorXd& level, double base,
@@ -199,8 +154,7 @@ Segmentation peak_regions(const TriMesh& mesh, const VectorXd& level, double bas
   for (std::size_t r = 0; r < seeds.size(); ++r)
     if (kept[r] == 0) kept[r] = Index(s.seeds.size()), s.seeds.push_back(seeds[r]);
   for (Index f = 0; f < mesh.num_faces(); ++f) s.face_labels[f] = kept[s.face_labels[f]];
-  split_into_connected_pieces(mesh, level, s);
-  summarise_regions(mesh, s);
+  split_regions(mesh, level, s);  // an arc of the join tree may run down both flanks of a ridge
   return s;
 }
 

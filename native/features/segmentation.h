@@ -3,6 +3,7 @@
 // regions, feature matching builds the region graph from the adjacency.
 #pragma once
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -22,5 +23,14 @@ struct Segmentation {
 /// Fills area, centroid and adjacency from face_labels and seeds (every face
 /// labelled, labels 0 .. seeds.size() - 1).
 void summarise_regions(const TriMesh& mesh, Segmentation& segmentation);
+
+/// Splits every region into the pieces its faces form when two faces of it
+/// count as joined only across an edge where `joined(f, g)` holds (always
+/// true: its edge-connected pieces). A piece keeps its region's seed if it
+/// holds it (the first such piece), else it is seeded at its vertex of
+/// highest `level`. Pieces are numbered in their regions' order, the one
+/// with the seed first; the summary is recomputed.
+void split_regions(const TriMesh& mesh, const VectorXd& level, Segmentation& segmentation,
+                   const std::function<bool(Index, Index)>& joined = {});
 
 }  // namespace paramorph::features

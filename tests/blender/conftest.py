@@ -24,3 +24,17 @@ if "bpy" not in sys.modules:
 for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
     if path not in sys.path:
         sys.path.insert(0, path)
+
+
+import pytest  # noqa: E402
+
+
+@pytest.fixture
+def addon_scene():
+    """An empty scene with the add-on enabled as a user enables it."""
+    import addon_utils
+    import bpy
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("paramorph", default_set=True)
+    yield
+    addon_utils.disable("paramorph", default_set=True)

@@ -1,7 +1,6 @@
 """Every operator as a user runs it, inside real Blender: on the sample
 scenes, checking the data it writes, that undo and cancel restore the mesh,
 and that bad input gives a report and changes nothing."""
-import addon_utils
 import bpy
 import numpy as np
 import pytest
@@ -10,12 +9,7 @@ import make_samples
 from paramorph import bridge, jobs, regions
 
 
-@pytest.fixture(autouse=True)
-def scene_with_addon():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("paramorph", default_set=True)
-    yield
-    addon_utils.disable("paramorph", default_set=True)
+pytestmark = pytest.mark.usefixtures("addon_scene")
 
 
 def vertex_coordinates(mesh):

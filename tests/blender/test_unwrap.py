@@ -1,6 +1,5 @@
 """Isometric Unwrap in real Blender: pinned UVs stay exactly, no folds, only
 the selected faces change, seams and selection borders cut, islands pack."""
-import addon_utils
 import bpy
 import numpy as np
 import pytest
@@ -9,12 +8,7 @@ import make_samples
 from paramorph import uv_patch
 
 
-@pytest.fixture(autouse=True)
-def scene_with_addon():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("paramorph", default_set=True)
-    yield
-    addon_utils.disable("paramorph", default_set=True)
+pytestmark = pytest.mark.usefixtures("addon_scene")
 
 
 def layer_uv(mesh, name=None):

@@ -154,12 +154,12 @@ TEST(FeaturePoints, ConvexTipsOfAnOctahedronLikeBlobArePoints) {
 
 TEST(FeatureRegions, BadInputRaisesTheMatchingError) {
   auto [V, F] = dimpled_sphere(0.3);
-  FeatureRegionOptions o;
-  o.normal_angle = 0.0;
-  EXPECT_THROW(feature_regions(V, F, o), InvalidInputError);
-  o = {};
-  o.concavity = VectorXd::Zero(3);
-  EXPECT_THROW(feature_regions(V, F, o), InvalidInputError);
+  FeatureRegionOptions flat_angle;
+  flat_angle.normal_angle = 0.0;
+  EXPECT_THROW(feature_regions(V, F, flat_angle), InvalidInputError);
+  FeatureRegionOptions short_concavity;
+  short_concavity.concavity = VectorXd::Zero(3);
+  EXPECT_THROW(feature_regions(V, F, short_concavity), InvalidInputError);
   MatrixX3i degenerate = F;
   degenerate(5, 1) = degenerate(5, 0);
   EXPECT_THROW(feature_regions(V, degenerate), DegenerateFaceError);
