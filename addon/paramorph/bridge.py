@@ -14,20 +14,26 @@ def require_native():
     return native
 
 
-def mesh_arrays(mesh):
-    """V float64 (n,3), F int32 (m,3) loop triangles, tri_poly int32 (m,), tri_loops int32 (m,3)."""
+def mesh_arrays(mesh, polygons=False, loops=False):
+    """V float64 (n,3), F int32 (m,3) loop triangles, and on request tri_poly
+    int32 (m,) (each triangle's polygon) and tri_loops int32 (m,3) (None
+    otherwise: each costs a pass over the triangles)."""
     n = len(mesh.vertices)
     co = np.empty(3 * n, dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
+    mesh.vertices.foreach_get("co", co)  # float32: a copy; float64 would convert per element
     mesh.calc_loop_triangles()
     m = len(mesh.loop_triangles)
     F = np.empty(3 * m, dtype=np.int32)
     mesh.loop_triangles.foreach_get("vertices", F)
-    tri_poly = np.empty(m, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
-    tri_loops = np.empty(3 * m, dtype=np.int32)
-    mesh.loop_triangles.foreach_get("loops", tri_loops)
-    return co.reshape(n, 3).astype(np.float64), F.reshape(m, 3), tri_poly, tri_loops.reshape(m, 3)
+    tri_poly = tri_loops = None
+    if polygons:
+        tri_poly = np.empty(m, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
+    if loops:
+        tri_loops = np.empty(3 * m, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("loops", tri_loops)
+        tri_loops = tri_loops.reshape(m, 3)
+    return co.reshape(n, 3).astype(np.float64), F.reshape(m, 3), tri_poly, tri_loops
 
 
 def sphere_uv(mesh, positions):
@@ -51,19 +57,24 @@ def sphere_uv(mesh, positions):
     v = 0.5 + np.arcsin(np.clip(X[:, 2], -1.0, 1.0)) / np.pi
     pole = np.abs(X[:, 2]) > 1.0 - 1e-9
 
-    def per_poly(values, reduce, fill):
-        out = np.full(P, fill)
-        reduce.at(out, poly_of_loop, values)
+    # Per-polygon reductions over each polygon's contiguous loops (reduceat
+    # wants ascending starts: visit polygons in loop order).
+    order = np.argsort(loop_start, kind="stable")
+    starts = loop_start[order]
+
+    def per_poly(values, reduce):
+        out = np.empty(P, dtype=values.dtype)
+        out[order] = reduce.reduceat(values, starts)
         return out
 
     free = ~pole
-    umax = per_poly(np.where(free, u, -np.inf), np.maximum, -np.inf)
-    umin = per_poly(np.where(free, u, np.inf), np.minimum, np.inf)
+    umax = per_poly(np.where(free, u, -np.inf), np.maximum)
+    umin = per_poly(np.where(free, u, np.inf), np.minimum)
     wraps = (umax - umin) > 0.5
     u = np.where(wraps[poly_of_loop] & (u < 0.5), u + 1.0, u)
     if pole.any():
-        total = np.bincount(poly_of_loop, weights=np.where(free, u, 0.0), minlength=P)
-        count = np.bincount(poly_of_loop, weights=free.astype(np.float64), minlength=P)
+        total = per_poly(np.where(free, u, 0.0), np.add)
+        count = per_poly(free.astype(np.float64), np.add)
         mean = np.divide(total, count, out=np.full(P, 0.5), where=count > 0)
         u = np.where(pole, mean[poly_of_loop], u)
     return np.stack([u, v], axis=1)

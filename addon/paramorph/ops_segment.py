@@ -16,7 +16,7 @@ class _Segmenter(NativeOperator):
     def prepare(self, context):
         obj = context.active_object
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
-            V, F, tri_poly, _ = bridge.mesh_arrays(obj.data)
+            V, F, tri_poly, _ = bridge.mesh_arrays(obj.data, polygons=True)
         state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly}
         return self.native_call(), (V, F), self.native_options(V, F), state
 

@@ -4,11 +4,14 @@ of the time spent moving mesh data between Blender and numpy.
 
     PARAMORPH_BUILD_DIR=build blender -b --factory-startup --python tests/bench/addon.py [-- --repeats 5]
 
-Prints JSON lines. Transfer = every bridge/regions function that reads or
-writes Blender data (foreach_get/foreach_set), timed by wrapping them."""
+Prints JSON lines: per operator the median wall time, and the time spent in
+foreach_get/foreach_set (the Blender <-> numpy copies) with its share.
+"sphere_map+segment_extremities" is the artist's sequence: Segment
+Extremities reuses the conformal map Sphere Map just computed."""
 import argparse
-import functools
+import cProfile
 import json
+import pstats
 import os
 import statistics
 import sys
@@ -23,41 +26,30 @@ for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_sampl
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
-from paramorph import bridge, regions  # noqa: E402
+from paramorph import bridge, sphere_cache  # noqa: E402
 
-transfer_seconds = [0.0]
-
-
-def timed(module, name):
-    original = getattr(module, name)
-
-    @functools.wraps(original)
-    def wrapper(*args, **kwargs):
-        start = time.perf_counter()
-        try:
-            return original(*args, **kwargs)
-        finally:
-            transfer_seconds[0] += time.perf_counter() - start
-    setattr(module, name, wrapper)
-
-
-# Everything that crosses Blender <-> numpy (the operators call these by module attribute).
-for module, names in ((bridge, ("mesh_arrays", "write_uv_layer", "add_shape_key", "sphere_uv")),
-                      (regions, ("polygon_labels", "write_labels", "write_label_colors"))):
-    for name in names:
-        timed(module, name)
+def transfer_seconds(operator):
+    """Seconds inside foreach_get / foreach_set (the Blender <-> numpy copies)
+    during one run of `operator`, from a profiled run (the profiler times
+    each built-in call; the operator makes few Python calls, so its overhead
+    is small)."""
+    profile = cProfile.Profile()
+    profile.enable()
+    assert operator() == {"FINISHED"}
+    profile.disable()
+    stats = pstats.Stats(profile).stats
+    return sum(entry[2] for (_, _, name), entry in stats.items()
+               if "foreach_get" in name or "foreach_set" in name)
 
 
 def run(operator, repeats):
-    times, transfers = [], []
+    times = []
     for _ in range(repeats):
-        transfer_seconds[0] = 0.0
         start = time.perf_counter()
         assert operator() == {"FINISHED"}
         times.append(time.perf_counter() - start)
-        transfers.append(transfer_seconds[0])
-    median = statistics.median(times)
-    return median, statistics.median(transfers), times
+    transfers = [transfer_seconds(operator) for _ in range(3)]
+    return statistics.median(times), statistics.median(transfers), times
 
 
 def main():
@@ -77,7 +69,8 @@ def main():
             "blender": bpy.app.version_string, "threads": os.cpu_count()}
     for name, operator in (
             ("sphere_map", lambda: bpy.ops.paramorph.sphere_map()),
-            ("segment_extremities", lambda: bpy.ops.paramorph.segment_extremities()),
+            ("segment_extremities (own sphere map)",
+             lambda: sphere_cache.clear() or bpy.ops.paramorph.segment_extremities()),
             ("sphere_map+segment_extremities",
              lambda: bpy.ops.paramorph.sphere_map() | bpy.ops.paramorph.segment_extremities()),
             ("detect_feature_regions", lambda: bpy.ops.paramorph.detect_feature_regions())):
