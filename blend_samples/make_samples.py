@@ -119,7 +119,10 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     pinned_vertices = [int(np.argmax(P[:, 0])), int(np.argmin(P[:, 0])),
                        int(np.argmax(P[:, 1])), int(np.argmin(P[:, 1]))]
     pins = np.isin(loop_vertex, pinned_vertices)
-    layer = mesh.uv_layers.new(name="UVMap")
+    # primitive_grid_add already made a "UVMap" (its own grid UVs): write
+    # into that one, so the pins are on the active layer the unwrap uses.
+    layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
+    mesh.uv_layers.active = layer
     layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
     layer.data.foreach_set("pin_uv", pins)
     mesh.update()
