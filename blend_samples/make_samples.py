@@ -123,8 +123,13 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     # into that one, so the pins are on the active layer the unwrap uses.
     layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
     mesh.uv_layers.active = layer
-    layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
-    layer.data.foreach_set("pin_uv", pins)
+    if hasattr(layer, "pin"):  # 3.5+: the attribute API; on 4.5 the old
+        # MeshUVLoop "pin_uv" foreach_set corrupts the heap (checked)
+        layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
+        layer.pin.foreach_set("value", pins)
+    else:
+        layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
+        layer.data.foreach_set("pin_uv", pins)
     mesh.update()
     return obj
 
