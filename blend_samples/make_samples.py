@@ -125,11 +125,16 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     pinned_vertices = [int(np.argmax(P[:, 0])), int(np.argmin(P[:, 0])),
                        int(np.argmax(P[:, 1])), int(np.argmin(P[:, 1]))]
     pins = np.isin(loop_vertex, pinned_vertices)
-    layer = mesh.uv_layers.active or mesh.uv_layers.new(name="UVMap")  # the grid comes with one
-    layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
-    if hasattr(layer, "pin"):  # 3.5+: data.pin_uv would write past a missing pin layer
+    # primitive_grid_add already made a "UVMap" (its own grid UVs): write
+    # into that one, so the pins are on the active layer the unwrap uses.
+    layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
+    mesh.uv_layers.active = layer
+    if hasattr(layer, "pin"):  # 3.5+: the attribute API; on 4.5 the old
+        # MeshUVLoop "pin_uv" foreach_set corrupts the heap (checked)
+        layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
         layer.pin.foreach_set("value", pins)
     else:
+        layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
         layer.data.foreach_set("pin_uv", pins)
     mesh.update()
     return obj

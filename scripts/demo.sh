@@ -1,11 +1,22 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the demo in blender -b: sphere maps
-# a generated mesh and a sample scene, writing .blend files with a "Sphere" UV
-# layer and a "Sphere" shape key.   Usage: scripts/demo.sh [OUT_DIR]
+# Installs what is missing, builds the module, and runs the demo in blender -b
+# on the sample objects (blend_samples/make_samples.py), through the add-on's
+# operators: Sphere Map (closed Suzanne), Isometric Unwrap (pinned disc; skipped
+# with a message while the operator is not in this build), Segment Extremities
+# (octopus), Detect Feature Regions (CAD part). Writes OUT_DIR/demo.blend and
+# OUT_DIR/demo.png (Workbench render, regions coloured from their attribute),
+# then runs the batch CLI once: OUT_DIR/octopus_sphere.obj, the octopus with
+# its "Sphere" UVs.   Usage: scripts/demo.sh [OUT_DIR]   (default: out)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
 out=$(realpath -m "${1:-out}")
 scripts/install-deps.sh
-scripts/build.sh
+scripts/build.sh paramorph_native
 blender -b --factory-startup --python-exit-code 1 --python scripts/demo_blender.py -- --out "$out"
+
+# The batch CLI from the source tree: the module comes from the build folder
+# (an installed add-on has it inside, see README "Batch CLI").
+blender -b --factory-startup --python-exit-code 1 \
+  --python-expr "import sys; sys.path.insert(0, '$(realpath "$PARAMORPH_BUILD_DIR")/python')" \
+  --python addon/paramorph/cli.py -- sphere "$out/demo.blend" "$out/octopus_sphere.obj" --object Octopus

@@ -115,6 +115,7 @@ def test_install_addon_script_installs_a_legacy_addon(tmp_path):
     sources = [n for n in os.listdir(os.path.join(REPO, "addon", "paramorph"))
                if n not in ("__pycache__", "blender_manifest.toml") and not n.endswith(".pyc")]
     assert names == sorted(sources + ["paramorph_native" + MODULE_SUFFIX]), names
+    assert "cli.py" in names  # the batch entry point ships with the add-on
 
     # A fresh Blender enables it from the user add-on folder as a user does,
     # even with the build folder first on sys.path.
@@ -148,7 +149,7 @@ def test_extension_zip_installs_enables_and_loads_its_module(tmp_path):
     with zipfile.ZipFile(zip_path) as z:
         names = sorted(z.namelist())
     assert "blender_manifest.toml" in names and "__init__.py" in names
-    assert "paramorph_native" + MODULE_SUFFIX in names
+    assert "paramorph_native" + MODULE_SUFFIX in names and "cli.py" in names
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")], names
 
     # Blender's own validator accepts the archive.

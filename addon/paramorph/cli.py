@@ -1,0 +1,374 @@
+"""Batch entry point: runs paramorph's operators on a file, the way an artist
+would in the UI, and writes the result.
+
+    blender -b --factory-startup --python <addons>/paramorph/cli.py -- COMMAND IN OUT [options]
+
+    sphere  IN OUT [--weights conformal|barycentric] [--no-shape-key]
+    unwrap  IN OUT [--max-iterations N] [--margin M]
+    segment IN OUT [--mode extremities|features] [--threshold T] [--min-area A]
+                   [--normal-angle DEG] [--concavity-threshold C] [--spacing S]
+    common: [--object NAME ...] [--backend auto|cpu|opencl]
+
+IN is a .blend, .obj, .ply or .stl file; OUT a .blend, .obj or .ply file
+(.obj and .ply keep the UVs; regions and shape keys only survive in .blend).
+Every mesh object of IN is processed unless --object names some. An error
+(bad mesh, missing file, an operator's report) is printed to stderr in plain
+words, nothing is written and the exit status is 1; usage errors exit 2.
+
+Run as a script, this file puts the folder holding the add-on on sys.path and
+enables the add-on with addon_utils, as Blender does for a user; then it only
+calls the add-on's operators (bpy.ops.paramorph.*), never the native module,
+so a batch run does exactly what the same operators do in the UI."""
+import argparse
+import math
+import os
+import sys
+import traceback
+
+import bpy
+
+if __package__:
+    PACKAGE = __package__
+else:  # run as a script: make the add-on importable by its folder's name
+    _HERE = os.path.dirname(os.path.abspath(__file__))
+    PACKAGE = os.path.basename(_HERE)
+    if os.path.dirname(_HERE) not in sys.path:
+        sys.path.insert(0, os.path.dirname(_HERE))
+
+PROG = "blender -b --factory-startup --python cli.py --"
+INPUTS = (".blend", ".obj", ".ply", ".stl")
+OUTPUTS = (".blend", ".obj", ".ply")
+# Importers and exporters: Blender 4.x has C++ ones under wm.*; 3.4 has wm.obj_*
+# and the Python add-ons import_mesh.* / export_mesh.* for PLY and STL.
+IMPORTERS = {".obj": (("wm", "obj_import"), ("import_scene", "obj")),
+             ".ply": (("wm", "ply_import"), ("import_mesh", "ply")),
+             ".stl": (("wm", "stl_import"), ("import_mesh", "stl"))}
+EXPORTERS = {".obj": (("wm", "obj_export"), ("export_scene", "obj")),
+             ".ply": (("wm", "ply_export"), ("export_mesh", "ply"))}
+REGION_ATTRIBUTE = "paramorph_region"
+
+
+class CliError(Exception):
+    """A problem to report in plain words (exit status 1)."""
+
+
+def build_parser():
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("input", metavar="IN", help="input file: " + ", ".join(INPUTS))
+    common.add_argument("output", metavar="OUT", help="output file: " + ", ".join(OUTPUTS))
+    common.add_argument("--object", action="append", metavar="NAME", dest="objects",
+                        help="mesh object to process (repeatable; default: every mesh object in IN)")
+    common.add_argument("--backend", choices=("auto", "cpu", "opencl"),
+                        help="compute backend (sets the add-on preference; default: auto)")
+
+    parser = argparse.ArgumentParser(
+        prog=PROG, description="Run paramorph's operators on a file in batch.")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    commands.required = True
+
+    sphere = commands.add_parser("sphere", parents=[common],
+                                 help="sphere map: UV layer and shape key 'Sphere'")
+    sphere.add_argument("--weights", choices=("conformal", "barycentric"), default="conformal")
+    sphere.add_argument("--no-shape-key", dest="shape_key", action="store_false",
+                        help="write only the 'Sphere' UV layer")
+
+    unwrap = commands.add_parser("unwrap", parents=[common],
+                                 help="isometric unwrap of all faces into the active UV layer "
+                                      "(pinned UVs stay where they are)")
+    unwrap.add_argument("--max-iterations", type=int, metavar="N")
+    unwrap.add_argument("--margin", type=float, metavar="M")
+
+    segment = commands.add_parser("segment", parents=[common],
+                                  help="regions in face attribute 'paramorph_region'")
+    segment.add_argument("--mode", choices=("extremities", "features"), default="extremities",
+                         help="extremities: limbs by area stretch (closed genus-0 meshes); "
+                              "features: creases and pockets")
+    segment.add_argument("--threshold", type=float, help="extremities: log area stretch rise")
+    segment.add_argument("--min-area", type=float,
+                         help="smallest region, as a share of the surface")
+    segment.add_argument("--normal-angle", type=float, metavar="DEG",
+                         help="features: crease angle in degrees")
+    segment.add_argument("--concavity-threshold", type=float,
+                         help="features: pocket depth, share of the bounding-box diagonal")
+    segment.add_argument("--spacing", type=float,
+                         help="features: feature point spacing, share of the bounding-box diagonal")
+    return parser, {"sphere": sphere, "unwrap": unwrap, "segment": segment}
+
+
+def parse_args(argv):
+    parser, subparsers = build_parser()
+    args = parser.parse_args(argv)
+    parser = subparsers[args.command]  # later errors show the command's usage
+    for label, path, allowed in (("IN", args.input, INPUTS), ("OUT", args.output, OUTPUTS)):
+        if os.path.splitext(path)[1].lower() not in allowed:
+            parser.error(f"{label} must end in {', '.join(allowed)}, not {path!r}")
+    if args.command == "segment":
+        only = {"extremities": ("threshold",),
+                "features": ("normal_angle", "concavity_threshold", "spacing")}
+        for mode, names in only.items():
+            for name in names:
+                if args.mode != mode and getattr(args, name) is not None:
+                    parser.error(f"--{name.replace('_', '-')} applies to --mode {mode}")
+    args.parser = parser
+    return args
+
+
+# --- Blender side -------------------------------------------------------------
+
+def find_operator(module, name):
+    """bpy.ops.<module>.<name>, or None when it is not registered (hasattr on
+    bpy.ops is always true, dir() lists what exists)."""
+    namespace = getattr(bpy.ops, module)
+    return getattr(namespace, name) if name in dir(namespace) else None
+
+
+def operator_options(op, **options):
+    """Only the options this Blender's version of `op` has."""
+    names = {p.identifier for p in op.get_rna_type().properties}
+    return {k: v for k, v in options.items() if k in names}
+
+
+def call_operator(op, **options):
+    """Runs an operator; its ERROR report (or a poll failure) becomes a CliError."""
+    try:
+        status = op(**options)
+    except RuntimeError as error:
+        lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
+        lines = [line[len("Error: "):] if line.startswith("Error: ") else line for line in lines]
+        raise CliError("; ".join(lines) or f"{op.idname_py()} failed") from None
+    if "FINISHED" not in status:
+        raise CliError(f"{op.idname_py()} did not finish ({', '.join(sorted(status))})")
+    return status
+
+
+def load(path):
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".blend":
+        call_operator(bpy.ops.wm.open_mainfile, filepath=path, load_ui=False)
+        return
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    for module, name in IMPORTERS[ext]:
+        op = find_operator(module, name)
+        if op is not None:
+            call_operator(op, filepath=path)
+            return
+    raise CliError(f"this Blender has no {ext} importer")
+
+
+def enable_addon(backend):
+    """Enables the add-on as a user does (unless it is already on, e.g. as the
+    extension bl_ext.<repo>.paramorph) and sets the backend preference."""
+    import addon_utils
+
+    enabled = [a.module for a in bpy.context.preferences.addons
+               if a.module == PACKAGE or a.module.endswith("." + PACKAGE)]
+    package = enabled[0] if enabled else PACKAGE
+    if not enabled and addon_utils.enable(package, default_set=True) is None:
+        raise CliError(f"the {package} add-on could not be enabled (see the messages above)")
+    native = sys.modules[f"{package}.native"]
+    if native.native is None:
+        raise CliError(native.load_error)
+    if backend is not None:
+        bpy.context.preferences.addons[package].preferences.backend = backend
+
+
+def check_ranges(parser, op, options, flags):
+    """Values outside an operator property's range are usage errors, not
+    silently clamped as bpy.ops would."""
+    properties = op.get_rna_type().properties
+    for name, value in options.items():
+        prop = properties[name]
+        if prop.type not in ("INT", "FLOAT") or prop.hard_min <= value <= prop.hard_max:
+            continue
+        shown = [math.degrees(x) if prop.subtype == "ANGLE" else x
+                 for x in (value, prop.hard_min, prop.hard_max)]
+        flag = flags.get(name, name)
+        if prop.hard_max >= 1e30:
+            parser.error(f"{flag} {shown[0]:g} is below its minimum {shown[1]:g}")
+        parser.error(f"{flag} {shown[0]:g} is outside [{shown[1]:g}, {shown[2]:g}]")
+
+
+def mesh_objects(names):
+    scene_objects = bpy.context.view_layer.objects
+    if names:
+        missing = [n for n in names if n not in scene_objects]
+        not_mesh = [n for n in names if n in scene_objects and scene_objects[n].type != "MESH"]
+        if missing or not_mesh:
+            meshes = sorted(o.name for o in scene_objects if o.type == "MESH")
+            problem = (f"no object named {', '.join(map(repr, missing))}" if missing
+                       else f"{', '.join(map(repr, not_mesh))} is not a mesh")
+            raise CliError(f"{problem} (mesh objects: {', '.join(meshes) or 'none'})")
+        return [scene_objects[n] for n in names]
+    objects = sorted((o for o in scene_objects if o.type == "MESH"), key=lambda o: o.name)
+    if not objects:
+        raise CliError("no mesh object in the input")
+    return objects
+
+
+def object_mode():
+    obj = bpy.context.view_layer.objects.active
+    if obj is not None and obj.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+
+
+def activate(obj, objects=None):
+    """`obj` active, it (or `objects`) the only selection, Object Mode."""
+    object_mode()
+    view_layer = bpy.context.view_layer
+    chosen = set(o.name for o in (objects or [obj]))
+    for other in view_layer.objects:  # objects, not mesh elements
+        other.select_set(other.name in chosen)
+    view_layer.objects.active = obj
+
+
+def sphere(args, obj):
+    op = bpy.ops.paramorph.sphere_map
+    call_operator(op, weights=args.weights, shape_key=args.shape_key)
+    mesh = obj.data
+    written = "UV layer 'Sphere'" + (" and shape key 'Sphere'" if args.shape_key else "")
+    return f"{written} ({len(mesh.vertices)} vertices, {len(mesh.polygons)} faces)"
+
+
+def unwrap_operator():
+    op = find_operator("paramorph", "isometric_unwrap")
+    if op is None:
+        raise CliError("this paramorph build has no isometric_unwrap")
+    return op
+
+
+def unwrap_options(args):
+    options = {}
+    if args.max_iterations is not None:
+        options["max_iterations"] = args.max_iterations
+    if args.margin is not None:
+        options["margin"] = args.margin
+    return options
+
+
+def unwrap(args, obj):
+    op = unwrap_operator()
+    call_operator(bpy.ops.object.mode_set, mode="EDIT")
+    try:
+        call_operator(bpy.ops.mesh.select_all, action="SELECT")
+        call_operator(op, **unwrap_options(args))
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+    mesh = obj.data
+    layer = mesh.uv_layers.active
+    return f"UV layer '{layer.name if layer else '?'}' ({len(mesh.polygons)} faces)"
+
+
+def segment_call(args):
+    if args.mode == "extremities":
+        options = {"threshold": args.threshold, "min_area": args.min_area}
+        return bpy.ops.paramorph.segment_extremities, options
+    options = {"normal_angle": None if args.normal_angle is None else math.radians(args.normal_angle),
+               "concavity_threshold": args.concavity_threshold,
+               "min_area": args.min_area, "spacing": args.spacing}
+    return bpy.ops.paramorph.detect_feature_regions, options
+
+
+def segment(args, obj):
+    op, options = segment_call(args)
+    call_operator(op, **{k: v for k, v in options.items() if v is not None})
+    regions = obj.paramorph_regions
+    return f"{regions} region{'' if regions == 1 else 's'} in face attribute '{REGION_ATTRIBUTE}'"
+
+
+COMMANDS = {"sphere": sphere, "unwrap": unwrap, "segment": segment}
+FLAGS = {"threshold": "--threshold", "min_area": "--min-area", "normal_angle": "--normal-angle",
+         "concavity_threshold": "--concavity-threshold", "spacing": "--spacing",
+         "max_iterations": "--max-iterations", "margin": "--margin"}
+
+
+def check_options(args):
+    """Operator-level checks before any work: the unwrap operator exists and
+    every value is in its property's range."""
+    if args.command == "unwrap":
+        op, options = unwrap_operator(), unwrap_options(args)
+    elif args.command == "segment":
+        op, options = segment_call(args)
+        options = {k: v for k, v in options.items() if v is not None}
+    else:
+        return
+    check_ranges(args.parser, op, options, FLAGS)
+
+
+def save(path, objects, command):
+    ext = os.path.splitext(path)[1].lower()
+    folder = os.path.dirname(path)
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+    if ext == ".blend":
+        bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+        return
+    activate(objects[0], objects)
+    if command == "sphere":  # the exporters write the active UV layer
+        for obj in objects:
+            obj.data.uv_layers.active = obj.data.uv_layers["Sphere"]
+    for module, name in EXPORTERS[ext]:
+        op = find_operator(module, name)
+        if op is not None:
+            call_operator(op, **operator_options(
+                op, filepath=path, check_existing=False,
+                export_selected_objects=True, use_selection=True,   # 4.x / 3.4 names
+                export_uv=True, use_uv_coords=True,
+                export_colors="SRGB" if name == "ply_export" else True, use_colors=True,
+                export_materials=False))
+            return
+    raise CliError(f"this Blender has no {ext} exporter")
+
+
+def main(argv):
+    """Runs one command; returns the exit status (usage errors exit 2 through argparse)."""
+    args = parse_args(argv)
+    name = f"paramorph {args.command}"
+    try:
+        if not os.path.isfile(args.input):
+            raise CliError(f"{args.input}: no such file")
+        load(os.path.abspath(args.input))
+        enable_addon(args.backend)
+        check_options(args)
+        objects = mesh_objects(args.objects)
+        for obj in objects:
+            activate(obj)
+            try:
+                summary = COMMANDS[args.command](args, obj)
+            except CliError as error:
+                raise CliError(f"{obj.name}: {error}") from None
+            print(f"{name}: {obj.name}: {summary}", flush=True)
+        object_mode()
+        out = os.path.abspath(args.output)
+        save(out, objects, args.command)
+    except CliError as error:
+        print(f"{name}: error: {error}", file=sys.stderr, flush=True)
+        return 1
+    if args.command == "segment" and not out.endswith(".blend"):
+        print(f"{name}: note: {os.path.splitext(out)[1]} keeps no '{REGION_ATTRIBUTE}' "
+              "attribute; write a .blend to keep the regions", file=sys.stderr)
+    print(f"{name}: wrote {out}", flush=True)
+    return 0
+
+
+def script_argv():
+    """The arguments after `--` (Blender's own come before it)."""
+    return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def run_as_script():
+    try:
+        code = main(script_argv())
+    except SystemExit:
+        raise
+    except Exception:  # a bug: show it, and fail even without --python-exit-code
+        traceback.print_exc()
+        code = 1
+    finally:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    if code:
+        sys.exit(code)
+
+
+if __name__ == "__main__":
+    run_as_script()
