@@ -7,8 +7,7 @@ runs paramorph's operators on them as an artist would (the add-on enabled
 with addon_utils, then bpy.ops.paramorph.*):
 
 - closed Suzanne: Sphere Map ("Sphere" UV layer and shape key),
-- pinned disc: Isometric Unwrap of all faces, pins kept (skipped with a
-  message when this build has no isometric_unwrap),
+- pinned disc: Isometric Unwrap of all faces, pins kept,
 - octopus: Segment Extremities,
 - CAD part: Detect Feature Regions.
 
@@ -53,10 +52,6 @@ def activate(obj):
     view_layer.objects.active = obj
 
 
-def has_operator(module, name):
-    return name in dir(getattr(bpy.ops, module))
-
-
 def uv_checker(obj, squares=8):
     """A per-corner colour attribute: a checker of the active UV layer, one
     flat colour per face (the cell of its UV centroid), made the active colour
@@ -89,11 +84,6 @@ def sphere_map_suzanne():
 def unwrap_disc(max_iterations):
     obj = make_samples.build_pinned_disc()
     activate(obj)
-    if not has_operator("paramorph", "isometric_unwrap"):
-        print("demo: skipped the unwrap: this paramorph build has no isometric_unwrap "
-              "(the disc shows its starting UVs)", flush=True)
-        uv_checker(obj, squares=4)
-        return obj, "not unwrapped (checker from its starting UVs)"
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.mesh.select_all(action="SELECT")
     try:

@@ -229,13 +229,6 @@ def sphere(args, obj):
     return f"{written} ({len(mesh.vertices)} vertices, {len(mesh.polygons)} faces)"
 
 
-def unwrap_operator():
-    op = find_operator("paramorph", "isometric_unwrap")
-    if op is None:
-        raise CliError("this paramorph build has no isometric_unwrap")
-    return op
-
-
 def unwrap_options(args):
     options = {}
     if args.max_iterations is not None:
@@ -246,7 +239,7 @@ def unwrap_options(args):
 
 
 def unwrap(args, obj):
-    op = unwrap_operator()
+    op = bpy.ops.paramorph.isometric_unwrap
     call_operator(bpy.ops.object.mode_set, mode="EDIT")
     try:
         call_operator(bpy.ops.mesh.select_all, action="SELECT")
@@ -282,10 +275,9 @@ FLAGS = {"threshold": "--threshold", "min_area": "--min-area", "normal_angle": "
 
 
 def check_options(args):
-    """Operator-level checks before any work: the unwrap operator exists and
-    every value is in its property's range."""
+    """Operator-level checks before any work: every value is in its property's range."""
     if args.command == "unwrap":
-        op, options = unwrap_operator(), unwrap_options(args)
+        op, options = bpy.ops.paramorph.isometric_unwrap, unwrap_options(args)
     elif args.command == "segment":
         op, options = segment_call(args)
         options = {k: v for k, v in options.items() if v is not None}

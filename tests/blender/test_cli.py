@@ -8,13 +8,13 @@ import glob
 import os
 import shutil
 
-import addon_utils
 import bpy
 import numpy as np
 import pytest
 
 import blender_subprocess
 import make_samples
+from paramorph import uv_patch
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
@@ -208,32 +208,16 @@ def test_segment_features_ply_in_one_named_object(cli, tmp_path):
     assert "paramorph_region" not in bpy.data.objects["Blob"].data.attributes
 
 
-def unwrap_available():
-    addon_utils.enable("paramorph", default_set=True)
-    try:
-        return "isometric_unwrap" in dir(bpy.ops.paramorph)
-    finally:
-        addon_utils.disable("paramorph", default_set=True)
-
-
-def test_unwrap_keeps_pins_or_says_it_is_missing(cli, tmp_path):
+def test_unwrap_keeps_pins_and_folds_nothing(cli, tmp_path):
     obj = make_samples.build_pinned_disc()
     mesh = obj.data
     before = uv_array(mesh, mesh.uv_layers.active)
-    pins = np.empty(len(mesh.loops), dtype=bool)
-    mesh.uv_layers.active.data.foreach_get("pin_uv", pins)
+    pins = uv_patch.uv_pins(mesh, mesh.uv_layers.active)
     assert pins.sum() >= 4
     src, out = tmp_path / "disc.blend", tmp_path / "disc_unwrapped.blend"
     save_blend(src)
-    available = unwrap_available()
 
     proc = run_cli(cli, tmp_path, "unwrap", src, out, "--max-iterations", "300")
-    if not available:
-        # This build has no isometric_unwrap yet: a clear error, nothing written.
-        assert proc.returncode == 1, output(proc)
-        assert "this paramorph build has no isometric_unwrap" in proc.stderr, output(proc)
-        assert not out.exists()
-        return
     assert proc.returncode == 0, output(proc)
     assert "paramorph unwrap: PinnedDisc: UV layer 'UVMap'" in proc.stdout
     open_output(out)
@@ -282,71 +266,3 @@ def test_option_out_of_range_and_unknown_object(cli, tmp_path):
     assert proc.returncode == 1, output(proc)
     assert "no object named 'Nope' (mesh objects: Blob)" in proc.stderr
     assert not (tmp_path / "x.blend").exists()
-
-
-# A stand-in for isometric_unwrap, registered before the CLI enables the
-# add-on, for builds that do not have the real operator yet: it records the
-# context the CLI calls it in (Edit Mode, every face selected, the options)
-# on the object, and fails with a report when asked to.
-STAND_IN = r'''
-import runpy, sys
-import bpy
-import numpy as np
-
-class StandInUnwrap(bpy.types.Operator):
-    bl_idname = "paramorph.isometric_unwrap"
-    bl_label = "Isometric Unwrap (test stand-in)"
-    max_iterations: bpy.props.IntProperty(default=1000, min=1)
-    margin: bpy.props.FloatProperty(default=0.0, min=0.0)
-
-    def execute(self, context):
-        obj = context.active_object
-        mode = obj.mode
-        obj.update_from_editmode()
-        selected = np.empty(len(obj.data.polygons), dtype=bool)
-        obj.data.polygons.foreach_get("select", selected)
-        if self.max_iterations == 13:
-            self.report({"ERROR"}, "the pinned UVs cannot all be met without folds")
-            return {"CANCELLED"}
-        obj["stand_in"] = {"mode": mode, "selected": int(selected.sum()),
-                           "max_iterations": self.max_iterations, "margin": self.margin}
-        return {"FINISHED"}
-
-bpy.utils.register_class(StandInUnwrap)
-try:
-    runpy.run_path(CLI, run_name="__main__")
-finally:
-    bpy.utils.unregister_class(StandInUnwrap)
-'''
-
-
-def test_unwrap_runs_the_operator_in_edit_mode_on_every_face(cli, tmp_path):
-    if unwrap_available():
-        pytest.skip("the real isometric_unwrap is registered: "
-                    "test_unwrap_keeps_pins_or_says_it_is_missing runs it")
-    script = tmp_path / "stand_in.py"
-    script.write_text(f"CLI = {str(cli)!r}\n" + STAND_IN)
-    obj = make_samples.build_pinned_disc()
-    faces = len(obj.data.polygons)
-    bpy.ops.object.mode_set(mode="EDIT")
-    bpy.ops.mesh.select_all(action="DESELECT")  # the CLI selects every face itself
-    bpy.ops.object.mode_set(mode="OBJECT")
-    src, out = tmp_path / "disc.blend", tmp_path / "disc_out.blend"
-    save_blend(src)
-
-    proc = blender_subprocess.run(script, ["unwrap", src, out, "--max-iterations", "13"], tmp_path)
-    assert proc.returncode == 1, output(proc)
-    assert ("paramorph unwrap: error: PinnedDisc: the pinned UVs cannot all be met without folds"
-            in proc.stderr), output(proc)
-    assert not out.exists()
-
-    proc = blender_subprocess.run(script, ["unwrap", src, out, "--max-iterations", "250",
-                                           "--margin", "0.02"], tmp_path)
-    assert proc.returncode == 0, output(proc)
-    assert "paramorph unwrap: PinnedDisc: UV layer 'UVMap'" in proc.stdout
-    open_output(out)
-    obj = bpy.data.objects["PinnedDisc"]
-    seen = obj["stand_in"].to_dict()
-    assert seen == {"mode": "EDIT", "selected": faces, "max_iterations": 250,
-                    "margin": pytest.approx(0.02)}, seen
-    assert obj.mode == "OBJECT"

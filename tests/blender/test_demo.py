@@ -9,6 +9,7 @@ import pytest
 
 import blender_subprocess
 import make_samples
+from paramorph import uv_patch
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEMO = os.path.join(REPO, "scripts", "demo_blender.py")
@@ -24,8 +25,7 @@ def empty_scene():
 def test_pinned_disc_sample_pins_the_active_uv_layer():
     mesh = make_samples.build_pinned_disc().data
     assert [layer.name for layer in mesh.uv_layers] == ["UVMap"]
-    pins = np.empty(len(mesh.loops), dtype=bool)
-    mesh.uv_layers.active.data.foreach_get("pin_uv", pins)
+    pins = uv_patch.uv_pins(mesh, mesh.uv_layers.active)
     loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
     mesh.loops.foreach_get("vertex_index", loop_vertex)
     assert len(np.unique(loop_vertex[pins])) == 4
