@@ -10,10 +10,14 @@
 #include "features/merge_regions.h"
 #include "features/peak_regions.h"
 #include "mesh/validate.h"
+#include "param/spherical/sphere_quality.h"
 
 namespace paramorph::features {
 
 namespace {
+
+/// Faces within this angle (radians, about 1 degree) of a plane count as in it.
+constexpr double kFlatTolerance = 0.0175;
 
 Eigen::MatrixXd unit_face_normals(const TriMesh& mesh) {
   const MatrixX3d& V = mesh.V();
@@ -24,6 +28,54 @@ Eigen::MatrixXd unit_face_normals(const TriMesh& mesh) {
     N.row(f) = (b - a).cross(c - a).normalized().transpose();
   }
   return N;
+}
+
+/// Joins adjacent regions that lie in one plane: each flat (every face
+/// normal within `tolerance` radians of the region's mean), the two means
+/// within `tolerance` and their plane offsets within `distance`. The
+/// concavity sweep may cut a flat side of a CAD part into pieces (its depth
+/// below the hull varies across it); flat regions are never features apart.
+void merge_coplanar_regions(const TriMesh& mesh, const Eigen::MatrixXd& normals, double tolerance,
+                            double distance, Segmentation& s) {
+  const Index regions = s.regions();
+  const VectorXd face_area = spherical::face_areas(mesh.V(), mesh.F());
+  Eigen::MatrixXd mean = Eigen::MatrixXd::Zero(regions, 3);
+  for (Index f = 0; f < mesh.num_faces(); ++f) mean.row(s.face_labels[f]) += face_area[f] * normals.row(f);
+  mean.rowwise().normalize();
+  const double min_cos = std::cos(tolerance);
+  std::vector<bool> flat(regions, true);
+  for (Index f = 0; f < mesh.num_faces(); ++f)
+    if (normals.row(f).dot(mean.row(s.face_labels[f])) < min_cos) flat[s.face_labels[f]] = false;
+
+  std::vector<Index> parent(regions);
+  std::iota(parent.begin(), parent.end(), Index(0));
+  auto find = [&](Index x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  bool merged = false;
+  for (const auto& [a, b] : s.adjacency) {
+    const double offset_a = mean.row(a).dot(s.centroid.row(a));
+    const double offset_b = mean.row(a).dot(s.centroid.row(b));
+    if (flat[a] && flat[b] && mean.row(a).dot(mean.row(b)) >= min_cos &&
+        std::abs(offset_a - offset_b) <= distance) {
+      const Index ra = find(a), rb = find(b);
+      if (ra == rb) continue;
+      // The larger region's seed stands for the union.
+      if (s.area[ra] >= s.area[rb])
+        parent[rb] = ra;
+      else
+        parent[ra] = rb;
+      merged = true;
+    }
+  }
+  if (!merged) return;
+  std::vector<Index> number(regions, -1), seeds;
+  for (Index r = 0; r < regions; ++r)
+    if (find(r) == r) number[r] = Index(seeds.size()), seeds.push_back(s.seeds[r]);
+  for (Index f = 0; f < mesh.num_faces(); ++f) s.face_labels[f] = number[find(s.face_labels[f])];
+  s.seeds = std::move(seeds);
+  summarise_regions(mesh, s);
 }
 
 }  // namespace
@@ -50,6 +102,7 @@ Segmentation grow_feature_regions(const TriMesh& mesh, const VectorXd& concavity
   split_regions(mesh, depth, s, [&](Index f, Index g) {  // not across creases
     return normals.row(f).dot(normals.row(g)) >= min_cos;
   });
+  merge_coplanar_regions(mesh, normals, kFlatTolerance, 1e-4 * diagonal, s);
 
   if (o.min_area > 0 && s.regions() > 1) {
     // Similarity in units of the thresholds: a normal turned by normal_angle

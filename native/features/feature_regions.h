@@ -7,9 +7,10 @@
 // join-tree sweep of features/peak_regions.h so that two pockets that meet
 // stay two regions. Rapid variations of the surface normal separate the
 // hard features: regions never grow across an edge whose dihedral angle
-// exceeds `normal_angle` (the rim of a boss, the sides of a rib). Small
-// regions are then merged into the most similar neighbour (mean normal and
-// mean concavity), smallest first.
+// exceeds `normal_angle` (the rim of a boss, the sides of a rib). Pieces of
+// one plane (a CAD part's flat side, cut by the concavity sweep) are joined
+// again; then small regions are merged into the most similar neighbour
+// (mean normal and mean concavity), smallest first.
 #pragma once
 
 #include <optional>

@@ -118,3 +118,18 @@ def test_feature_regions_errors():
     V, F = meshes.box(cells=3)
     with pytest.raises(pm.Cancelled):
         pm.feature_regions(V, F, progress=lambda fraction, stage: False)
+
+
+def test_each_flat_side_of_a_cad_part_is_one_region():
+    # The concavity below the hull varies across the box's top (deep at the
+    # boss's foot): the sweep cuts it, the coplanar pieces are joined again.
+    V, F = meshes.cad_box()
+    s = pm.feature_regions(V, F)
+    normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    centre = V[F].mean(axis=1)
+    planes = np.round(np.hstack([normals, np.sum(normals * centre, axis=1, keepdims=True)]), 6)
+    _, plane_of_face = np.unique(planes, axis=0, return_inverse=True)
+    for plane in np.unique(plane_of_face):
+        labels = np.unique(s.face_labels[plane_of_face.ravel() == plane])
+        assert len(labels) == 1, (planes[plane_of_face.ravel() == plane][0], labels)
