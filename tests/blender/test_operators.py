@@ -215,3 +215,24 @@ def test_segmentation_reuses_the_sphere_map_of_the_same_geometry(monkeypatch):
     obj.data.vertices.foreach_set("co", co.ravel())
     assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
     assert calls == [True, False]
+
+
+def test_the_backend_preference_chooses_where_the_solver_runs():
+    prefs = bpy.context.preferences.addons["paramorph"].preferences
+    assert prefs.backend == "auto"
+    assert {"auto", "opencl", "cpu"} == {item.identifier for item in prefs.bl_rna.properties["backend"].enum_items}
+    prefs.backend = "cpu"
+    obj = make_samples.build_blob(subdivisions=3)
+    from paramorph import sphere_cache
+    sphere_cache.clear()
+    reports = []
+    pm = bridge.require_native()
+    original = pm.sphere_map
+    try:
+        pm.sphere_map = lambda *a, **k: reports.append(k.get("backend")) or original(*a, **k)
+        assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    finally:
+        pm.sphere_map = original
+        prefs.backend = "auto"
+    assert reports == ["cpu"]
+    assert "Sphere" in obj.data.uv_layers
