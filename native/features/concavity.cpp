@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "common/errors.h"
+#include "common/morton.h"
 #include "mesh/validate.h"
 
 extern "C" {
@@ -65,17 +66,6 @@ class QhullRun {
  private:
   std::unique_ptr<qhT> qh_;
 };
-
-/// Spreads the low 21 bits of x so that two zero bits follow each one.
-std::uint64_t spread_bits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
 
 /// Facet planes as separate arrays (vectorizes): inside when n · p <= h.
 struct Planes {
@@ -293,9 +283,7 @@ VectorXd depth_below_planes(const MatrixX3d& points, const ConvexHull& hull) {
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < n; ++k) {
     const Eigen::RowVector3d q = (P.row(k) - lo) * cells;
-    keyed[k] = {spread_bits(std::uint64_t(q[0])) | spread_bits(std::uint64_t(q[1])) << 1 |
-                    spread_bits(std::uint64_t(q[2])) << 2,
-                k};
+    keyed[k] = {morton_code(std::uint64_t(q[0]), std::uint64_t(q[1]), std::uint64_t(q[2])), k};
   }
   std::sort(keyed.begin(), keyed.end());
   SortedPoints sorted;

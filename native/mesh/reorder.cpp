@@ -4,22 +4,9 @@
 #include <cstdint>
 #include <numeric>
 
+#include "common/morton.h"
+
 namespace paramorph {
-
-namespace {
-
-/// Spreads the low 21 bits of v so two zero bits separate each.
-std::uint64_t spread_bits(std::uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
-}
-
-}  // namespace
 
 Reordering locality_order(const MatrixX3d& V, const MatrixX3i& F) {
   const Index n = Index(V.rows()), m = Index(F.rows());
@@ -30,12 +17,10 @@ Reordering locality_order(const MatrixX3d& V, const MatrixX3i& F) {
     const Eigen::RowVector3d extent = (V.colwise().maxCoeff() - lo).cwiseMax(1e-300);
     const double cells = double((1 << 21) - 1);
     for (Index i = 0; i < n; ++i) {
-      std::uint64_t key = 0;
-      for (int d = 0; d < 3; ++d) {
-        const double t = (V(i, d) - lo[d]) / extent[d];
-        key |= spread_bits(std::uint64_t(std::clamp(t, 0.0, 1.0) * cells)) << d;
-      }
-      code[i] = key;
+      std::uint64_t cell[3];
+      for (int d = 0; d < 3; ++d)
+        cell[d] = std::uint64_t(std::clamp((V(i, d) - lo[d]) / extent[d], 0.0, 1.0) * cells);
+      code[i] = morton_code(cell[0], cell[1], cell[2]);
     }
   }
   r.new_to_old_vertex.resize(n);
