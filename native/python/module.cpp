@@ -13,4 +13,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_planar(m);
   paramorph::python::bind_segmentation(m);
   paramorph::python::bind_features(m);
+  paramorph::python::bind_morph(m);
 }

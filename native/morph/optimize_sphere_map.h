@@ -1,0 +1,64 @@
+// Optimized spherical parameterization for morphing (thesis 4.3.3; DESIGN.md
+// §4.4): starting from a fold-free sphere map, move every vertex as close as
+// the fold constraints allow to its radial projection v_i^0 (the mesh seen
+// from its centroid), so convex, structurally important parts keep their
+// place and the distortion goes to the concave areas.
+//
+//   maximize   sum_i v_i^0 . v_i                       (4.8: "keep them close")
+//   subject to |v_i|^2 = 1                             (4.9)
+//              det(v_a, v_b, v_c) >= epsilon per face  (4.10)
+//
+// (4.10) lists three constraints per face; for a triangle they are one and the
+// same scalar triple product, so one per face is kept (repeats would make the
+// constraint Jacobian rank-deficient). Solved by Ipopt (interior point,
+// MUMPS) with the exact gradient, Jacobian and Hessian of the Lagrangian,
+// their sparsity built once. An evaluation at a point with a folded face is
+// refused, so Ipopt shortens the step: every accepted iterate is fold-free.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "common/progress.h"
+#include "mesh/types.h"
+
+namespace paramorph::morph {
+
+struct OptimizeSphereOptions {
+  /// Lower bound of each face's triple product, as a share of the mean
+  /// triple product of the start (resolution-free); lowered to half the
+  /// start's smallest when the start is tighter, so the start is feasible.
+  double epsilon = 0.05;
+  int max_iterations = 200;
+  double tol = 1e-6;  ///< Ipopt's convergence tolerance (the thesis used 1e-6)
+  /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
+  /// centroid when absent.
+  std::optional<MatrixX3d> target;
+};
+
+struct OptimizeSphereResult {
+  MatrixX3d positions;        ///< #V by 3 unit vectors, fold-free
+  int iterations = 0;
+  double objective = 0;       ///< sum_i v_i^0 . v_i at the end (n at best)
+  double start_objective = 0;
+  double epsilon = 0;         ///< the absolute bound used
+  double min_triple = 0;      ///< smallest face triple product at the end (>= epsilon to Ipopt's tolerance)
+  Index flipped = 0;          ///< faces with a triple product <= 0 (0 on success)
+  std::string status;         ///< Ipopt's return status, e.g. "Solve_Succeeded"
+  double seconds = 0;
+};
+
+/// V, F: a closed genus-0 mesh (checked); sphere: #V by 3 unit vectors of a
+/// fold-free map of it (e.g. sphere_map(V, F).positions; checked: raises
+/// InvalidInputError naming the folded faces; faces squeezed to a triple
+/// product within rounding of 0 are accepted and opened up to epsilon).
+/// Raises Cancelled when the progress callback asks to stop.
+OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
+                                         const MatrixX3d& sphere,
+                                         const OptimizeSphereOptions& options = {},
+                                         Progress* progress = nullptr);
+
+/// Triple product det(v_a, v_b, v_c) of every face (its orientation on the sphere).
+VectorXd face_triple_products(const MatrixX3d& X, const MatrixX3i& F);
+
+}  // namespace paramorph::morph

@@ -1,0 +1,123 @@
+// The optimized sphere map for morphing (morph/optimize_sphere_map, thesis
+// 4.3.3): derivatives against finite differences, fold-free Ipopt results.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "common/errors.h"
+#include "mesh/tri_mesh.h"
+#include "morph/optimize_sphere_map.h"
+#include "morph/sphere_map_nlp.h"
+#include "param/spherical/sphere_map.h"
+#include "test_meshes.h"
+
+using namespace paramorph;
+using namespace paramorph::morph;
+
+namespace {
+
+Eigen::MatrixXd dense(Index rows, Index cols, const std::vector<Index>& r, const std::vector<Index>& c,
+                      const std::vector<double>& values) {
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(rows, cols);
+  for (std::size_t k = 0; k < values.size(); ++k) M(r[k], c[k]) += values[k];
+  return M;
+}
+
+/// A point near a sphere map (not on the sphere), so every term is exercised.
+std::vector<double> perturbed(const MatrixX3d& X, double amount, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, amount);
+  std::vector<double> x(X.data(), X.data() + X.size());
+  for (double& value : x) value = value * 1.1 + noise(rng);
+  return x;
+}
+
+}  // namespace
+
+TEST(SphereMapNlp, DerivativesMatchFiniteDifferences) {
+  auto [V, F] = test_meshes::lumpy_blob(1);
+  const TriMesh mesh(V, F);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  const SphereMapNlp nlp(mesh, V.rowwise().normalized());
+  const Index n = nlp.num_variables(), m = nlp.num_constraints();
+  std::vector<double> x = perturbed(sphere, 0.05, 7);
+  const double h = 1e-6;
+
+  std::vector<double> grad(n);
+  nlp.objective_gradient(x.data(), grad.data());
+  std::vector<double> jac(nlp.jacobian_nonzeros());
+  nlp.jacobian_values(x.data(), jac.data());
+  const Eigen::MatrixXd J = dense(m, n, nlp.jacobian_rows(), nlp.jacobian_cols(), jac);
+
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  VectorXd lambda(m);
+  for (Index k = 0; k < m; ++k) lambda[k] = uniform(rng);
+  std::vector<double> hess(nlp.hessian_nonzeros());
+  nlp.hessian_values(x.data(), 1.0, lambda.data(), hess.data());
+  Eigen::MatrixXd H = dense(n, n, nlp.hessian_rows(), nlp.hessian_cols(), hess);
+  for (Index i = 0; i < n; ++i)  // the lower triangle is stored: mirror it
+    for (Index j = 0; j < i; ++j) H(j, i) = H(i, j);
+  for (std::size_t k = 0; k < hess.size(); ++k) ASSERT_GE(nlp.hessian_rows()[k], nlp.hessian_cols()[k]);
+
+  VectorXd g_plus(m), g_minus(m);
+  double worst_grad = 0, worst_jac = 0, worst_hess = 0;
+  for (Index j = 0; j < n; ++j) {
+    std::vector<double> xp = x, xm = x;
+    xp[j] += h;
+    xm[j] -= h;
+    worst_grad = std::max(worst_grad, std::abs((nlp.objective(xp.data()) - nlp.objective(xm.data())) / (2 * h) - grad[j]));
+    nlp.constraints(xp.data(), g_plus.data());
+    nlp.constraints(xm.data(), g_minus.data());
+    worst_jac = std::max(worst_jac, ((g_plus - g_minus) / (2 * h) - J.col(j)).cwiseAbs().maxCoeff());
+    // Column j of the Lagrangian's Hessian: d/dx_j of J(x)^T lambda.
+    std::vector<double> jp(jac.size()), jm(jac.size());
+    nlp.jacobian_values(xp.data(), jp.data());
+    nlp.jacobian_values(xm.data(), jm.data());
+    const Eigen::MatrixXd Jp = dense(m, n, nlp.jacobian_rows(), nlp.jacobian_cols(), jp);
+    const Eigen::MatrixXd Jm = dense(m, n, nlp.jacobian_rows(), nlp.jacobian_cols(), jm);
+    const VectorXd column = (Jp.transpose() * lambda - Jm.transpose() * lambda) / (2 * h);
+    worst_hess = std::max(worst_hess, (column - H.col(j)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst_grad, 1e-8);
+  EXPECT_LT(worst_jac, 1e-7);
+  EXPECT_LT(worst_hess, 1e-6);
+}
+
+TEST(OptimizeSphereMap, StaysFoldFreeAndMovesTowardsTheProjection) {
+  auto [V, F] = test_meshes::lumpy_blob(2);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  const OptimizeSphereResult r = optimize_sphere_map(V, F, sphere);
+  EXPECT_EQ(r.flipped, 0);
+  EXPECT_GE(r.min_triple, r.epsilon * (1 - 1e-4));  // to Ipopt's constraint tolerance
+  EXPECT_GT(r.objective, r.start_objective);
+  EXPECT_LE(r.objective, double(V.rows()));
+  EXPECT_LT((r.positions.rowwise().norm().array() - 1.0).abs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(r.status == "Solve_Succeeded" || r.status == "Solved_To_Acceptable_Level") << r.status;
+}
+
+TEST(OptimizeSphereMap, AConvexMeshGoesToItsRadialProjection) {
+  auto [V, F] = test_meshes::icosphere(2);
+  V.col(0) *= 1.6;  // an ellipsoid: star-shaped, its radial projection folds nothing
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  OptimizeSphereOptions o;
+  o.epsilon = 1e-3;
+  const OptimizeSphereResult r = optimize_sphere_map(V, F, sphere, o);
+  const MatrixX3d projection = V.rowwise().normalized();
+  EXPECT_EQ(r.flipped, 0);
+  EXPECT_LT((r.positions - projection).rowwise().norm().maxCoeff(), 1e-3) << r.status;
+  EXPECT_NEAR(r.objective, double(V.rows()), 1e-3);
+}
+
+TEST(OptimizeSphereMap, BadInputAndCancel) {
+  auto [V, F] = test_meshes::lumpy_blob(1);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  MatrixX3d folded = sphere;
+  folded.row(F(0, 0)) = -folded.row(F(0, 0));
+  EXPECT_THROW(optimize_sphere_map(V, F, folded), InvalidInputError);
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere.topRows(3)), InvalidInputError);
+  auto [G, FG] = test_meshes::bumpy_grid(4);
+  EXPECT_THROW(optimize_sphere_map(G, FG, MatrixX3d::Zero(G.rows(), 3)), NotClosedError);
+  Progress stop([](double, const std::string&) { return false; });
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, {}, &stop), Cancelled);
+}

@@ -1,0 +1,65 @@
+"""Morphing through the module: optimize_sphere_map (thesis 4.3.3)."""
+import numpy as np
+import pytest
+
+import meshes
+import paramorph_native as pm
+
+
+def triple_products(X, F):
+    return np.einsum("ij,ij->i", X[F[:, 0]], np.cross(X[F[:, 1]], X[F[:, 2]]))
+
+
+def test_optimized_map_is_fold_free_on_the_sphere_and_closer_to_the_projection():
+    V, F = meshes.tentacle_sphere(subdivisions=2, tentacles=3, length=1.5)
+    start = pm.sphere_map(V, F).positions
+    seen = []
+    r = pm.optimize_sphere_map(V, F, start, progress=lambda fraction, stage: seen.append(fraction) or True)
+    assert r.status in ("Solve_Succeeded", "Solved_To_Acceptable_Level"), r.status
+    assert r.flipped == 0 and r.min_triple >= r.epsilon * (1 - 1e-4) > 0
+    np.testing.assert_allclose(np.linalg.norm(r.positions, axis=1), 1.0, atol=1e-12)
+    assert np.all(triple_products(r.positions, F) > 0)
+    assert r.start_objective < r.objective <= len(V)
+    assert seen and seen[-1] == 1.0
+
+
+def test_float32_input_and_a_given_target():
+    V, F = meshes.icosphere(2)
+    V = V * [1.5, 1.0, 0.8]
+    start = pm.sphere_map(V, F).positions
+    target = V / np.linalg.norm(V, axis=1, keepdims=True)
+    r = pm.optimize_sphere_map(V.astype(np.float32), F.astype(np.int64), start.astype(np.float32),
+                               target=target, epsilon=0.001)
+    assert r.flipped == 0
+    assert np.abs(r.positions - target).max() < 1e-3  # an ellipsoid's projection folds nothing
+
+
+def test_errors_and_cancel():
+    V, F = meshes.noisy_blob(2)
+    start = pm.sphere_map(V, F).positions
+    bad = start.copy()
+    bad[F[0, 0]] *= -1
+    with pytest.raises(pm.InvalidInputError, match="folds"):
+        pm.optimize_sphere_map(V, F, bad)
+    with pytest.raises(pm.InvalidInputError, match="epsilon"):
+        pm.optimize_sphere_map(V, F, start, epsilon=0.0)
+    Vd, Fd = meshes.open_disc()
+    with pytest.raises(pm.NotClosedError):
+        pm.optimize_sphere_map(Vd, Fd, np.zeros_like(Vd))
+    Vt, Ft = meshes.torus()
+    with pytest.raises(pm.NotGenusZeroError):
+        pm.optimize_sphere_map(Vt, Ft, np.zeros_like(Vt))
+    with pytest.raises(pm.Cancelled):
+        pm.optimize_sphere_map(V, F, start, progress=lambda fraction, stage: False)
+
+
+def test_faces_squeezed_to_rounding_by_the_conformal_map_are_opened():
+    # Long tentacles: the conformal map squeezes their tips to triple
+    # products of about -1e-17 (rounding); the optimized map opens every face
+    # to at least epsilon.
+    V, F = meshes.tentacle_sphere(2, tentacles=4)
+    start = pm.sphere_map(V, F).positions
+    assert triple_products(start, F).min() <= 0  # the case this test is about
+    r = pm.optimize_sphere_map(V, F, start)
+    assert r.status == "Solve_Succeeded", r.status
+    assert r.flipped == 0 and triple_products(r.positions, F).min() >= r.epsilon * (1 - 1e-4)
