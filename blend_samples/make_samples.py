@@ -16,6 +16,13 @@ def _apply_all_modifiers(obj):
         bpy.ops.object.modifier_apply(modifier=modifier.name)
 
 
+def _coordinates(mesh):
+    """Vertex positions as float64 (n, 3) (float32 foreach_get: a plain copy)."""
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
 def build_suzanne_closed(name="SuzanneClosed", voxel_size=0.045):
     """Suzanne made closed and genus 0: voxel remesh (fills the eye holes and
     welds the parts into one surface), then triangulated."""
@@ -36,9 +43,7 @@ def build_blob(name="Blob", subdivisions=5):
     obj = bpy.context.active_object
     obj.name = name
     mesh = obj.data
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
-    P = co.reshape(-1, 3).astype(np.float64)
+    P = _coordinates(mesh)
     P /= np.linalg.norm(P, axis=1, keepdims=True)
     r = 1.0 + 0.25 * np.sin(3 * P[:, 0]) * np.cos(2 * P[:, 1]) + 0.35 * P[:, 2] ** 2
     mesh.vertices.foreach_set("co", (P * r[:, None] * [1.0, 1.4, 0.9]).astype(np.float32).ravel())
@@ -59,9 +64,7 @@ def build_octopus(name="Octopus", subdivisions=5, limbs=6, faces=None):
         decimate.ratio = faces / len(obj.data.polygons)
         _apply_all_modifiers(obj)
     mesh = obj.data
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
-    P = co.reshape(-1, 3).astype(np.float64)
+    P = _coordinates(mesh)
     P /= np.linalg.norm(P, axis=1, keepdims=True)
     angles = 2 * np.pi * np.arange(limbs) / limbs
     dirs = np.stack([np.cos(angles), np.sin(angles), np.full(limbs, -0.35)], axis=1)
@@ -111,9 +114,7 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     obj = bpy.context.active_object
     obj.name = name
     mesh = obj.data
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
-    P = co.reshape(-1, 3).astype(np.float64)
+    P = _coordinates(mesh)
     r = np.maximum(np.abs(P[:, 0]), np.abs(P[:, 1]))
     scale = np.divide(r, np.hypot(P[:, 0], P[:, 1]), out=np.ones_like(r), where=r > 0)
     P[:, :2] *= scale[:, None]  # square rings -> circles

@@ -8,7 +8,7 @@ and feature points in "paramorph_feature_point" (per vertex: +1 concave,
 import bpy
 import numpy as np
 
-from . import bridge, regions, sphere_cache
+from . import bridge, overlay, regions, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 
@@ -31,6 +31,7 @@ class _Segmenter(NativeOperator):
                 points = result[1]
                 regions.write_feature_points(obj.data, points.vertices, points.kinds)
         obj.paramorph_regions = int(labels.max()) + 1 if len(labels) else 0
+        overlay.forget(obj.name)
         for area in context.screen.areas if context.screen else ():
             area.tag_redraw()
         return self.summary(result, obj.paramorph_regions)

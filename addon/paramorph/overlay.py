@@ -11,21 +11,32 @@ from gpu_extras.batch import batch_for_shader
 from . import regions
 
 _handler = None
-_cache = {}  # object name -> (key, batches)
+# object name -> (mesh pointer, batches). Built once per geometry: a
+# depsgraph update of the object (an edit, a new segmentation) drops its
+# entry, so a redraw reads no mesh data.
+_cache = {}
 
 
 def _key(obj):
+    return obj.data.as_pointer()
+
+
+def forget(name):
+    """Drop the object's batches (its regions were rewritten)."""
+    _cache.pop(name, None)
+
+
+def _forget_updated(scene, depsgraph):
+    for update in depsgraph.updates:
+        if update.is_updated_geometry:  # objects come with their own name
+            _cache.pop(update.id.name, None)
+
+
+def _batches(obj):
     mesh = obj.data
     labels = regions.read_labels(mesh)
     if labels is None:
-        return None, None
-    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
-    return (mesh.as_pointer(), len(mesh.polygons), hash(labels.tobytes()), hash(co.tobytes())), labels
-
-
-def _batches(obj, labels):
-    mesh = obj.data
+        return None
     co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
     co = co.reshape(-1, 3)
@@ -82,15 +93,14 @@ def draw():
     if scene is None or not getattr(scene, "paramorph", None) or not scene.paramorph.show_overlay:
         return
     obj = context.active_object
-    if obj is None or obj.type != "MESH" or obj.mode == "EDIT":
-        return
-    key, labels = _key(obj)
-    if key is None:
+    if obj is None or obj.type != "MESH" or obj.mode == "EDIT" or obj.paramorph_regions == 0:
         return
     cached = _cache.get(obj.name)
-    if cached is None or cached[0] != key:
-        cached = (key, _batches(obj, labels))
+    if cached is None or cached[0] != _key(obj):
+        cached = (_key(obj), _batches(obj))
         _cache[obj.name] = cached
+    if cached[1] is None:
+        return
     shader, faces, line_shader, borders, points = cached[1]
     gpu.state.blend_set("ALPHA")
     gpu.state.depth_test_set("LESS_EQUAL")
@@ -118,12 +128,15 @@ def register():
     global _handler
     if _handler is None and not bpy.app.background:
         _handler = bpy.types.SpaceView3D.draw_handler_add(draw, (), "WINDOW", "POST_VIEW")
+        bpy.app.handlers.depsgraph_update_post.append(_forget_updated)
 
 
 def unregister():
     global _handler
     if _handler is not None:
         bpy.types.SpaceView3D.draw_handler_remove(_handler, "WINDOW")
+        if _forget_updated in bpy.app.handlers.depsgraph_update_post:
+            bpy.app.handlers.depsgraph_update_post.remove(_forget_updated)
         _handler = None
     _cache.clear()
 
