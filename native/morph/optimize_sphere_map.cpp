@@ -12,8 +12,8 @@
 
 #include "common/errors.h"
 #include "mesh/validate.h"
+#include "morph/radial_projection.h"
 #include "morph/sphere_map_nlp.h"
-#include "param/spherical/sphere_quality.h"
 
 namespace paramorph::morph {
 
@@ -191,16 +191,18 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     PM_REQUIRE(target.rows() == V.rows() && target.allFinite(), InvalidInputError,
                "target must be a finite (", V.rows(), ", 3) array");
   } else {
-    const VectorXd area = spherical::face_areas(V, F);
-    Eigen::RowVector3d centroid = Eigen::RowVector3d::Zero();
-    for (paramorph::Index f = 0; f < F.rows(); ++f)
-      centroid += area[f] * (V.row(F(f, 0)) + V.row(F(f, 1)) + V.row(F(f, 2))) / 3.0;
-    centroid /= area.sum();
-    target = V.rowwise() - centroid;
+    target = radial_projection(V, F);
   }
   for (paramorph::Index v = 0; v < target.rows(); ++v) {
     const double length = target.row(v).norm();
     target.row(v) = length > 0 ? (target.row(v) / length).eval() : start.row(v);
+  }
+
+  if (o.weights) {
+    PM_REQUIRE(o.weights->size() == V.rows() && o.weights->allFinite() && (o.weights->array() >= 0).all() &&
+                   o.weights->sum() > 0, InvalidInputError, "weights must be ", V.rows(),
+               " finite non-negative values, not all 0");
+    target.array().colwise() *= o.weights->array();  // the objective's weighted targets
   }
 
   // A sphere map is defined up to a rotation; turn the start to face the

@@ -34,6 +34,9 @@ struct OptimizeSphereOptions {
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
   /// centroid when absent.
   std::optional<MatrixX3d> target;
+  /// #V non-negative weights w_i: maximize sum_i w_i v_i^0 . v_i (all 1 when
+  /// absent); the morph's alignment weighs paired feature points up (4.12).
+  std::optional<VectorXd> weights;
 };
 
 struct OptimizeSphereResult {

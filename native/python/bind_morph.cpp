@@ -30,12 +30,14 @@ void def_optimize_sphere_map(py::module_& m) {
   m.def(
       "optimize_sphere_map",
       [](const py::object& V, const py::object& F, const py::object& sphere, double epsilon,
-         int max_iterations, double tol, const py::object& target, py::object progress) {
+         int max_iterations, double tol, const py::object& target, const py::object& weights,
+         py::object progress) {
         morph::OptimizeSphereOptions o;
         o.epsilon = epsilon;
         o.max_iterations = max_iterations;
         o.tol = tol;
         if (!target.is_none()) o.target = to_vertices(target, "target");
+        if (!weights.is_none()) o.weights = to_vector(weights, "weights");
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
         const MatrixX3d s = to_vertices(sphere, "sphere");
@@ -45,11 +47,12 @@ void def_optimize_sphere_map(py::module_& m) {
       },
       py::arg("V"), py::arg("F"), py::arg("sphere"), py::kw_only(), py::arg("epsilon") = 0.05,
       py::arg("max_iterations") = 200, py::arg("tol") = 1e-6, py::arg("target") = py::none(),
-      py::arg("progress") = py::none(),
+      py::arg("weights") = py::none(), py::arg("progress") = py::none(),
       R"doc(Optimized sphere map for morphing (thesis 4.3.3): from a fold-free map
 `sphere` (e.g. sphere_map(V, F).positions), every vertex moves as close as the
 fold constraints allow to its radial projection from the centroid (or to
-`target`): maximise sum v_i^0 . v_i subject to |v_i| = 1 (4.9) and, per face,
+`target`), weighted by `weights` ((n,) >= 0, default 1): maximise
+sum w_i v_i^0 . v_i subject to |v_i| = 1 (4.9) and, per face,
 det(v_a, v_b, v_c) >= epsilon x (mean start triple product) (4.10; lowered to
 half the start's smallest when the start is tighter). Ipopt (MUMPS) with exact
 sparse derivatives; every accepted iterate is fold-free.

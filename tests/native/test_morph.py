@@ -63,3 +63,21 @@ def test_faces_squeezed_to_rounding_by_the_conformal_map_are_opened():
     r = pm.optimize_sphere_map(V, F, start)
     assert r.status == "Solve_Succeeded", r.status
     assert r.flipped == 0 and triple_products(r.positions, F).min() >= r.epsilon * (1 - 1e-4)
+
+
+def test_a_heavily_weighted_vertex_ends_closer_to_its_target():
+    V, F = meshes.noisy_blob(2)
+    start = pm.sphere_map(V, F).positions
+    target = V / np.linalg.norm(V, axis=1, keepdims=True)
+    # Pull one vertex's target a long way off; weight it up in the second run.
+    moved = 7
+    target[moved] = -target[moved]
+    plain = pm.optimize_sphere_map(V, F, start, target=target)
+    weights = np.ones(len(V))
+    weights[moved] = 200.0
+    weighted = pm.optimize_sphere_map(V, F, start, target=target, weights=weights)
+    assert plain.flipped == 0 and weighted.flipped == 0
+    gap = lambda r: np.linalg.norm(r.positions[moved] - target[moved])  # noqa: E731
+    assert gap(weighted) < gap(plain) - 0.1
+    with pytest.raises(pm.InvalidInputError, match="weights"):
+        pm.optimize_sphere_map(V, F, start, weights=-weights)
