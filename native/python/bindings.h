@@ -11,5 +11,6 @@ void bind_sphere(pybind11::module_& m);
 void bind_planar(pybind11::module_& m);
 void bind_segmentation(pybind11::module_& m);
 void bind_features(pybind11::module_& m);
+void bind_matching(pybind11::module_& m);
 void bind_morph(pybind11::module_& m);
 }  // namespace paramorph::python

@@ -4,7 +4,7 @@
 PYBIND11_MODULE(paramorph_native, m) {
   m.doc() =
       "paramorph native core: mesh validation, OpenCL devices, spherical and planar "
-      "parameterization, feature measures";
+      "parameterization, feature measures and matching";
   m.attr("__version__") = "0.1.0";
   paramorph::python::bind_errors(m);
   paramorph::python::bind_mesh(m);
@@ -13,5 +13,6 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_planar(m);
   paramorph::python::bind_segmentation(m);
   paramorph::python::bind_features(m);
+  paramorph::python::bind_matching(m);
   paramorph::python::bind_morph(m);
 }

@@ -6,8 +6,9 @@ outside (outward normals, positive signed volume). Everything is deterministic
 (seeded RNGs), so a failing assertion names a reproducible mesh.
 
 Closed genus-0 families: icosphere, noisy_blob, tentacle_sphere, limb_blob
-(straight or bent: two poses of one shape), box, cad_box, bad_triangulation,
-sized_sphere_mesh (benchmarks). Broken families (error
+(straight or bent: two poses of one shape), box, cad_box, two_boss_part and
+bumps_and_pits (asymmetric features, any resolution: feature matching),
+bad_triangulation, sized_sphere_mesh (benchmarks). Broken families (error
 paths): open_disc, torus, two_spheres, non_manifold_edge, pinched_spheres,
 flipped_face, loose_vertex, nan_vertex, out_of_range_index, zero_area_face.
 """
@@ -343,6 +344,72 @@ def cad_box(cells_per_unit=8, boss_height=0.25):
     unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
     V = (unique - np.array([nx, ny, nz]) / 2.0) / k
     return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+
+
+def two_boss_part(cells_per_unit=8, alternate_diagonals=False):
+    """A CAD-like part with no symmetry: a 2 x 1.5 x 1 box with a 0.75 x 0.5
+    boss 0.25 high off-centre on its top and a 0.5 x 0.5 boss 0.5 high
+    off-centre on its +x side. All faces planar and axis-aligned, sharp 90°
+    edges. cells_per_unit (a multiple of 4) sets the grid; with
+    alternate_diagonals every other cell is split along its other diagonal,
+    so two calls give the same surface triangulated differently."""
+    k = int(cells_per_unit)
+    if k < 4 or k % 4:
+        raise ValueError("cells_per_unit must be a positive multiple of 4")
+    nx, ny, nz = 2 * k, 3 * k // 2, k
+    tx0, tx1, ty0, ty1, th = k // 4, k, k // 2, k, k // 4                      # top boss
+    sy0, sy1, sz0, sz1, sh = k // 4, 3 * k // 4, k // 4, 3 * k // 4, k // 2    # side boss
+    X, Y, Z = np.eye(3, dtype=np.int64)
+    o = np.zeros(3, np.int64)
+    on_top = lambda p: (tx0 <= p[:, 0]) & (p[:, 0] < tx1) & (ty0 <= p[:, 1]) & (p[:, 1] < ty1)  # noqa: E731
+    on_side = lambda p: (sy0 <= p[:, 1]) & (p[:, 1] < sy1) & (sz0 <= p[:, 2]) & (p[:, 2] < sz1)  # noqa: E731
+    t0, s0 = tx0 * X + ty0 * Y + nz * Z, nx * X + sy0 * Y + sz0 * Z
+    patches = [  # (origin, du, dv, nu, nv, skip-cell test); outward normal = du x dv
+        (o, Y, X, ny, nx, None), (nz * Z, X, Y, nx, ny, on_top), (o, X, Z, nx, nz, None),
+        (ny * Y, Z, X, nz, nx, None), (o, Z, Y, nz, ny, None), (nx * X, Y, Z, ny, nz, on_side),
+        (t0 + th * Z, X, Y, tx1 - tx0, ty1 - ty0, None),             # top boss: cap, 4 walls
+        (t0, X, Z, tx1 - tx0, th, None), (t0 + (ty1 - ty0) * Y, Z, X, th, tx1 - tx0, None),
+        (t0, Z, Y, th, ty1 - ty0, None), (t0 + (tx1 - tx0) * X, Y, Z, ty1 - ty0, th, None),
+        (s0 + sh * X, Y, Z, sy1 - sy0, sz1 - sz0, None),             # side boss: cap, 4 walls
+        (s0, X, Z, sh, sz1 - sz0, None), (s0 + (sy1 - sy0) * Y, Z, X, sz1 - sz0, sh, None),
+        (s0, Y, X, sy1 - sy0, sh, None), (s0 + (sz1 - sz0) * Z, X, Y, sh, sy1 - sy0, None),
+    ]
+    corners = []
+    for origin, du, dv, nu, nv, skip in patches:
+        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+        i, j = i.ravel(), j.ravel()
+        p00 = origin + np.outer(i, du) + np.outer(j, dv)
+        if skip is not None:
+            keep = ~skip(p00)
+            i, j, p00 = i[keep], j[keep], p00[keep]
+        p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
+        other = ((i + j) % 2 == 1)[:, None, None] if alternate_diagonals else False
+        corners += [np.where(other, np.stack([p00, p10, p01], 1), np.stack([p00, p10, p11], 1)),
+                    np.where(other, np.stack([p10, p11, p01], 1), np.stack([p00, p11, p01], 1))]
+    lattice = np.concatenate(corners)
+    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
+    V = (unique - np.array([nx, ny, nz]) / 2.0) / k
+    return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+
+
+BUMPS_AND_PITS = [  # (direction, angular width in radians, radial height): > 0 bump, < 0 pit
+    ((0.2, 0.3, 1.0), 0.35, 0.45), ((1.0, -0.2, 0.1), 0.30, 0.35), ((-0.6, 0.8, -0.3), 0.40, -0.30),
+    ((0.1, -1.0, -0.5), 0.30, -0.25), ((-0.8, -0.4, 0.5), 0.25, 0.30)]
+
+
+def bumps_and_pits(sphere=None):
+    """A blob with three bumps and two pits of different sizes at irregular
+    places (no symmetry), stretched by (1, 1.2, 0.9). The radius is a
+    function of the direction only, so any tessellation of the unit sphere
+    (`sphere` = (V, F), default icosphere(4); e.g. geodesic_sphere(n), or a
+    turned icosphere) gives the same surface, sampled differently."""
+    V, F = icosphere(4) if sphere is None else sphere
+    P = V / np.linalg.norm(V, axis=1, keepdims=True)
+    r = np.ones(len(P))
+    for direction, width, height in BUMPS_AND_PITS:
+        d = np.asarray(direction) / np.linalg.norm(direction)
+        r += height * np.exp(-(np.arccos(np.clip(P @ d, -1, 1)) / width) ** 2)
+    return P * r[:, None] * np.array([1.0, 1.2, 0.9]), np.asarray(F, np.int32)
 
 
 def bad_triangulation(seed=2, splits=80):
