@@ -14,4 +14,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_segmentation(m);
   paramorph::python::bind_features(m);
   paramorph::python::bind_morph(m);
+  paramorph::python::bind_overlay(m);
 }
