@@ -126,7 +126,15 @@ struct Support {
   Index vertex = -1, edge = -1, face = -1;
 };
 
-/// Locating merged vertices in one map (A or B): per-vertex and per-corner coordinates.
+/// A merged vertex as a combination of one map's vertices (weights summing to
+/// 1): its vertex, the two ends of its edge, or the corners of its face.
+struct Combination {
+  Index vertex[3] = {-1, -1, -1};
+  double weight[3] = {0, 0, 0};
+};
+
+/// Locating merged vertices in one map (A or B): a combination of its
+/// vertices per merged vertex, read off in any face that has those vertices.
 class Locator {
  public:
   explicit Locator(const SphereMapTopology& map) : map_(map) {
@@ -139,44 +147,47 @@ class Locator {
       }
   }
 
-  /// A face holding the point and its coordinates there.
-  void locate(const Support& s, const Vec3& P, Index& face, Eigen::Ref<Eigen::RowVector3d> bary) const {
+  /// The combination for a point P with support s, and a face holding it.
+  Combination combine(const Support& s, const Vec3& P, Index& face) const {
+    Combination c;
     if (s.vertex >= 0) {
-      const Index corner = vertex_corner_[s.vertex];
-      face = corner / 3;
-      bary.setZero();
-      bary[corner % 3] = 1;
+      face = vertex_corner_[s.vertex] / 3;
+      c.vertex[0] = s.vertex, c.weight[0] = 1;
     } else if (s.edge >= 0) {
-      const Index corner = edge_corner_[s.edge];
-      face = corner / 3;
-      bary = in_face(s, P, face).transpose();
+      face = edge_corner_[s.edge] / 3;
+      const Index p0 = map_.edges(s.edge, 0), p1 = map_.edges(s.edge, 1);
+      const Eigen::Vector2d w = edge_bary(P, map_.X.row(p0), map_.X.row(p1));
+      c.vertex[0] = p0, c.weight[0] = w[0];
+      c.vertex[1] = p1, c.weight[1] = w[1];
     } else {
       face = s.face;
-      bary = in_face(s, P, face).transpose();
+      const Vec3 w = central(P, face);
+      for (int k = 0; k < 3; ++k) c.vertex[k] = map_.F(face, k), c.weight[k] = w[k];
     }
+    return c;
   }
 
-  /// Coordinates of the point in face f: exact corners and edges where the
-  /// support is a corner or an edge of f, central projection otherwise.
-  Vec3 in_face(const Support& s, const Vec3& P, Index f) const {
+  /// Coordinates in face f of the point with combination c (at P): read off
+  /// when f has all of c's vertices (exact corners, the same weights from
+  /// both faces of an edge), central projection otherwise.
+  Vec3 in_face(const Combination& c, const Vec3& P, Index f) const {
     Vec3 w = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) {
-      if (s.vertex >= 0 && map_.F(f, k) == s.vertex) {
-        w[k] = 1;
-        return w;
-      }
-      if (s.edge >= 0 && map_.face_edges(f, k) == s.edge) {
-        const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-        const Eigen::Vector2d e = edge_bary(P, map_.X.row(map_.F(f, k1)), map_.X.row(map_.F(f, k2)));
-        w[k1] = e[0], w[k2] = e[1];
-        return w;
-      }
+    int found = 0, needed = 0;
+    for (int j = 0; j < 3; ++j) {
+      if (c.vertex[j] < 0) continue;
+      ++needed;
+      for (int k = 0; k < 3; ++k)
+        if (map_.F(f, k) == c.vertex[j]) w[k] = c.weight[j], ++found;
     }
+    return found == needed ? w : central(P, f);
+  }
+
+ private:
+  Vec3 central(const Vec3& P, Index f) const {
     return central_bary(P, map_.X.row(map_.F(f, 0)), map_.X.row(map_.F(f, 1)),
                         map_.X.row(map_.F(f, 2)));
   }
 
- private:
   const SphereMapTopology& map_;
   std::vector<Index> vertex_corner_, edge_corner_;  // 3 f + k of one face naming it
 };
@@ -378,14 +389,17 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
     support_b[m] = {vb, clusters.edge_b[k], vb < 0 && va >= 0 ? ar.face_b_of_a[va] : -1};
   }
   const Locator locate_a(a), locate_b(b);
+  std::vector<Combination> in_a(static_cast<std::size_t>(count)), in_b(in_a.size());
   out.face_a.resize(count);
   out.face_b.resize(count);
   out.bary_a.resize(count, 3);
   out.bary_b.resize(count, 3);
   for (Index m = 0; m < count; ++m) {
     const Vec3 P = out.V.row(m);
-    locate_a.locate(support_a[m], P, out.face_a[m], out.bary_a.row(m));
-    locate_b.locate(support_b[m], P, out.face_b[m], out.bary_b.row(m));
+    in_a[m] = locate_a.combine(support_a[m], P, out.face_a[m]);
+    in_b[m] = locate_b.combine(support_b[m], P, out.face_b[m]);
+    out.bary_a.row(m) = locate_a.in_face(in_a[m], P, out.face_a[m]).transpose();
+    out.bary_b.row(m) = locate_b.in_face(in_b[m], P, out.face_b[m]).transpose();
   }
   out.corner_bary_a.resize(K, 9);
   out.corner_bary_b.resize(K, 9);
@@ -394,9 +408,9 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
       const Index m = out.F(t, k);
       const Vec3 P = out.V.row(m);
       out.corner_bary_a.block<1, 3>(t, 3 * k) =
-          locate_a.in_face(support_a[m], P, out.source_face_a[t]).transpose();
+          locate_a.in_face(in_a[m], P, out.source_face_a[t]).transpose();
       out.corner_bary_b.block<1, 3>(t, 3 * k) =
-          locate_b.in_face(support_b[m], P, out.source_face_b[t]).transpose();
+          locate_b.in_face(in_b[m], P, out.source_face_b[t]).transpose();
     }
 
   // The checks the contract promises, reported (exact orientation; twins).

@@ -71,7 +71,7 @@ struct MergedTopology {
   /// coordinates of that corner in source_face_a (they differ from bary_a
   /// where a vertex sits on an edge or a vertex of A: then they are its
   /// coordinates in this face). corner_bary_b the same for B.
-  Eigen::MatrixXd corner_bary_a, corner_bary_b;
+  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corner_bary_a, corner_bary_b;
   /// #M: 0 a vertex of A, 1 a vertex of B, 2 a vertex of both (within
   /// merge_tolerance), 3 a crossing of an edge of A with an edge of B.
   VectorXi vertex_kind;
