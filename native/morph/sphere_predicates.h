@@ -31,9 +31,10 @@ struct SpherePoint {
 /// (e^(2^(3k)), e^(2^(3k+1)), e^(2^(3k+2))) for an infinitesimal e > 0 (lower
 /// ranks move by more): the exact sign where it is not 0, else the sign of the
 /// first non-vanishing term of the perturbation's expansion (each term a 2 by 2
-/// minor or a coordinate, also exact). Never 0 when one or two of the points
-/// are ranked and the points are pairwise independent (every test between a
-/// vertex of one map and an edge of the other); with none or three ranked it
+/// minor or a coordinate, also exact). Never 0 when one point is ranked and
+/// the two fixed ones are independent, or two are ranked and independent:
+/// every test between a vertex of one map and an edge of the other (the
+/// vertex may coincide with an end of the edge). With none or three ranked it
 /// is plain orientation(). Antisymmetric like the determinant, so the answers
 /// of all tests are those of one perturbed configuration.
 int perturbed_orientation(const SpherePoint& p, const SpherePoint& q, const SpherePoint& r);
