@@ -2,6 +2,7 @@
 #include "morph/merge_close_vertices.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -12,21 +13,46 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-/// Angular distance (as a chord, equal to the angle at these scales) from the
-/// unit vector P to the great-circle arc p0 -> p1 (shorter than pi).
-double arc_distance(const Vec3& P, const Vec3& p0, const Vec3& p1) {
-  const Vec3 n = p0.cross(p1);
-  // Inside the lune between the half-planes through p0 and p1 the nearest
-  // point of the arc is the foot on its circle; outside it, an end.
-  if (P.dot(n.cross(p0)) >= 0 && P.dot(p1.cross(n)) >= 0) return std::abs(P.dot(n)) / n.norm();
-  return std::min((P - p0).norm(), (P - p1).norm());
-}
+/// A great-circle arc p0 -> p1 (shorter than pi) ready for distance queries:
+/// its unit normal and the inward normals of the half-planes through its ends.
+struct Arc {
+  Vec3 p0, p1, normal, after_p0, before_p1;
+  Arc() = default;
+  Arc(const Vec3& a, const Vec3& b) : p0(a), p1(b) {
+    normal = a.cross(b).normalized();
+    after_p0 = normal.cross(a);
+    before_p1 = b.cross(normal);
+  }
+  /// Angular distance (as a chord, equal to the angle at these scales) from
+  /// the unit vector P: inside the lune between the half-planes through the
+  /// ends the nearest point is the foot on the circle, outside it an end.
+  double distance(const Vec3& P) const {
+    if (P.dot(after_p0) >= 0 && P.dot(before_p1) >= 0) return std::abs(P.dot(normal));
+    return std::min((P - p0).norm(), (P - p1).norm());
+  }
+};
 
 /// Where each arrangement vertex is and what it must stay close to.
 class Supports {
  public:
   Supports(const SphereArrangement& ar, const SphereMapTopology& a, const SphereMapTopology& b)
-      : ar_(ar), a_(a), b_(b) {}
+      : ar_(ar), a_(a), b_(b) {
+    // The arcs of the edges that have crossings, each built once.
+    std::vector<Index> arc_of_a(std::size_t(a.edges.rows()), -1);
+    std::vector<Index> arc_of_b(std::size_t(b.edges.rows()), -1);
+    auto arc = [&](const SphereMapTopology& map, std::vector<Index>& arc_of, Index e) {
+      if (arc_of[e] < 0) {
+        arc_of[e] = Index(arcs_.size());
+        arcs_.emplace_back(map.X.row(map.edges(e, 0)).transpose(),
+                           map.X.row(map.edges(e, 1)).transpose());
+      }
+      return arc_of[e];
+    };
+    crossing_arcs_.resize(std::size_t(ar.num_crossings()));
+    for (Index c = 0; c < ar.num_crossings(); ++c)
+      crossing_arcs_[c] = {arc(a, arc_of_a, ar.crossing_edge_a[c]),
+                           arc(b, arc_of_b, ar.crossing_edge_b[c])};
+  }
 
   bool is_a(Index v) const { return v < ar_.num_a; }
   bool is_b(Index v) const { return v >= ar_.num_a && v < ar_.num_a + ar_.num_b; }
@@ -48,16 +74,16 @@ class Supports {
   /// or B, both arcs for a crossing.
   double deviation(Index v, const Vec3& P) const {
     if (is_a(v) || is_b(v)) return (P - position(v)).norm();
-    const Index c = v - ar_.num_a - ar_.num_b;
-    const Index ea = ar_.crossing_edge_a[c], eb = ar_.crossing_edge_b[c];
-    return std::max(arc_distance(P, a_.X.row(a_.edges(ea, 0)), a_.X.row(a_.edges(ea, 1))),
-                    arc_distance(P, b_.X.row(b_.edges(eb, 0)), b_.X.row(b_.edges(eb, 1))));
+    const auto& [arc_a, arc_b] = crossing_arcs_[std::size_t(v - ar_.num_a - ar_.num_b)];
+    return std::max(arcs_[arc_a].distance(P), arcs_[arc_b].distance(P));
   }
 
  private:
   const SphereArrangement& ar_;
   const SphereMapTopology& a_;
   const SphereMapTopology& b_;
+  std::vector<Arc> arcs_;
+  std::vector<std::pair<Index, Index>> crossing_arcs_;  // per crossing: its arcs of A and B
 };
 
 struct Candidate {
@@ -94,16 +120,22 @@ class Groups {
     if (ru == rv) return false;
     if (!may_merge({a_[ru], b_[ru], ea_[ru], eb_[ru]}, {a_[rv], b_[rv], ea_[rv], eb_[rv]}))
       return false;
+    const double limit = force ? std::numeric_limits<double>::infinity() : tolerance;
     Index rep;
-    if (a_[ru] >= 0 || a_[rv] >= 0)
+    double spread;
+    if (a_[ru] >= 0 || a_[rv] >= 0) {
       rep = a_[ru] >= 0 ? a_[ru] : a_[rv];
-    else if (b_[ru] >= 0 || b_[rv] >= 0)
+      spread = worst(ru, rv, s_.position(rep), limit);
+    } else if (b_[ru] >= 0 || b_[rv] >= 0) {
       rep = b_[ru] >= 0 ? b_[ru] : b_[rv];
-    else  // crossings only: the better placed of the two positions
-      rep = worst(ru, rv, s_.position(rep_[ru])) <= worst(ru, rv, s_.position(rep_[rv]))
-                ? rep_[ru]
-                : rep_[rv];
-    if (!force && !(worst(ru, rv, s_.position(rep)) <= tolerance)) return false;
+      spread = worst(ru, rv, s_.position(rep), limit);
+    } else {  // crossings only: the better placed of the two positions
+      rep = rep_[ru];
+      spread = worst(ru, rv, s_.position(rep), limit);
+      const double other = worst(ru, rv, s_.position(rep_[rv]), std::min(limit, spread));
+      if (other < spread) rep = rep_[rv], spread = other;
+    }
+    if (!(spread <= limit)) return false;
     if (size_[ru] < size_[rv]) std::swap(ru, rv);
     parent_[rv] = ru;
     size_[ru] += size_[rv];
@@ -122,13 +154,15 @@ class Groups {
   Index next(Index v) const { return next_[v]; }
 
  private:
-  /// Largest deviation of the members of two groups from P.
-  double worst(Index ru, Index rv, const Vec3& P) const {
+  /// Largest deviation of the members of two groups from P (any value above
+  /// `limit` once one member is past it).
+  double worst(Index ru, Index rv, const Vec3& P, double limit) const {
     double d = 0;
     for (Index r : {ru, rv}) {
       Index v = r;
       do {
         d = std::max(d, s_.deviation(v, P));
+        if (d > limit) return d;
         v = next_[v];
       } while (v != r);
     }

@@ -17,8 +17,14 @@ int sign_of_minor(double x0, double y0, double x1, double y1) {
                                Kernel::Point_2(x1, y1)));
 }
 
-/// Exact signs of the components of a x b.
+bool same_point(const double* p, const double* q) {
+  return p[0] == q[0] && p[1] == q[1] && p[2] == q[2];
+}
+
+/// Exact signs of the components of a x b (0 at once for a repeated point,
+/// where CGAL's filter would fail).
 int cross_component_sign(const double* a, const double* b, int component) {
+  if (same_point(a, b)) return 0;
   const int i = (component + 1) % 3, j = (component + 2) % 3;
   return sign_of_minor(a[i], a[j], b[i], b[j]);  // (a x b)_c = a_i b_j - a_j b_i
 }
@@ -74,7 +80,13 @@ int orientation(const double* p, const double* q, const double* r) {
 }
 
 int perturbed_orientation(const SpherePoint& p, const SpherePoint& q, const SpherePoint& r) {
-  if (const int s = orientation(p.xyz, q.xyz, r.xyz)) return s;
+  // A repeated point makes the determinant exactly 0 without asking CGAL,
+  // whose filter would fail and fall back to exact arithmetic (the common
+  // tie where a vertex of B sits on a vertex of A).
+  const bool repeated = same_point(p.xyz, q.xyz) || same_point(q.xyz, r.xyz) ||
+                        same_point(r.xyz, p.xyz);
+  if (!repeated)
+    if (const int s = orientation(p.xyz, q.xyz, r.xyz)) return s;
   const int ranked = (p.rank >= 0) + (q.rank >= 0) + (r.rank >= 0);
   // The determinant is invariant under cyclic shifts: rotate the arguments
   // into the canonical forms det(p, q, r*) and det(u*, w*, r).
