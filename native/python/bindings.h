@@ -13,4 +13,5 @@ void bind_segmentation(pybind11::module_& m);
 void bind_features(pybind11::module_& m);
 void bind_matching(pybind11::module_& m);
 void bind_morph(pybind11::module_& m);
+void bind_overlay(pybind11::module_& m);
 }  // namespace paramorph::python

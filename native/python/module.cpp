@@ -15,4 +15,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_features(m);
   paramorph::python::bind_matching(m);
   paramorph::python::bind_morph(m);
+  paramorph::python::bind_overlay(m);
 }

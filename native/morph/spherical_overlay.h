@@ -1,0 +1,102 @@
+// Spherical overlay of two sphere maps into one merged topology (thesis 4.4;
+// DESIGN.md §4.4 step 3): the great-circle arcs of map A's edges are
+// intersected with those of map B by walking from face to face (O(E + K)),
+// every sign test an exact orientation predicate (CGAL) with ties broken by
+// symbolic perturbation; the cells (face of A ∩ face of B, convex) are
+// triangulated into one closed genus-0 mesh covering the sphere once, and each
+// merged vertex is located in a face of A and of B with barycentric
+// coordinates, which gives its position on both models.
+//
+// Steps: sphere_arrangement.h (the exact, perturbed arrangement),
+// merge_close_vertices.h (vertices within merge_tolerance of one point become
+// one vertex: coincident vertices, vertices on the other map's edges,
+// overlapping edges), triangulate_spherical_polygon.h (each cell, positive
+// triangles only), then the barycentric coordinates here.
+#pragma once
+
+#include "common/progress.h"
+#include "mesh/types.h"
+
+namespace paramorph::morph {
+
+struct OverlayOptions {
+  /// Angular distance (radians) under which two vertices of the overlay are
+  /// the same point. A vertex of B this close to a vertex of A becomes one
+  /// merged vertex of both (vertex_kind 2, placed on A's vertex); a vertex
+  /// this close to an arc of the other map lies on that arc (the crossings
+  /// next to it are merged into it); two arcs this close to each other along a
+  /// stretch share their merged edges there. Every merged vertex stays within
+  /// this distance of the input vertices and of the input arcs it stands for
+  /// (but see OverlayStats::max_merge_distance), so no triangle thinner than
+  /// this is made where the inputs have none.
+  /// Vertices of one map are never merged with each other. Values below
+  /// 1e-15 act as 1e-15 (rounding of the distance computations).
+  double merge_tolerance = 1e-9;
+};
+
+/// What the overlay did and how long each step took.
+struct OverlayStats {
+  Index cells = 0;              ///< cells of the exact arrangement (face of A ∩ face of B)
+  Index crossings = 0;          ///< arc crossings of the exact arrangement
+  Index merged_vertices = 0;    ///< arrangement vertices merged into another
+  /// Largest distance (radians) from a merged vertex to the input vertices and
+  /// arcs it stands for: <= merge_tolerance, except where a tiny cell that
+  /// merging turned over was repaired by merging two of its vertices (at most
+  /// 16 merge_tolerance apart), which happens only in inputs with features of
+  /// about the tolerance's size.
+  double max_merge_distance = 0;
+  Index degenerate_cells = 0;   ///< cell pieces with no positive triangulation (0 expected)
+  Index folded = 0;             ///< merged triangles with det <= 0, exact (0 expected)
+  Index open_edges = 0;         ///< merged half-edges without one opposite twin (0 expected)
+  double seconds_validate = 0, seconds_arrangement = 0, seconds_merge = 0,
+         seconds_triangulate = 0, seconds_attributes = 0, seconds = 0;
+};
+
+struct MergedTopology {
+  MatrixX3d V;         ///< #M by 3 merged vertices on the unit sphere
+  MatrixX3i F;         ///< #K by 3 merged triangles, det > 0 (the inputs' orientation),
+                       ///< a closed genus-0 manifold covering the sphere once
+  VectorXi face_a;     ///< #M: a face of A holding each merged vertex
+  /// #M by 3: barycentric coordinates of each merged vertex in face_a, by
+  /// central projection (where the ray through V meets the flat triangle of
+  /// sphere_a's corners): 1 at the corner for a vertex of A, 0 opposite the
+  /// edge for a point on an edge of A (the same weights from both faces of the
+  /// edge, so positions interpolated from A are continuous).
+  MatrixX3d bary_a;
+  VectorXi face_b;     ///< #M: the same for B
+  MatrixX3d bary_b;
+  VectorXi source_face_a;  ///< #K: the face of A each merged triangle lies in
+  VectorXi source_face_b;  ///< #K: the face of B each merged triangle lies in
+  /// #K by 9: per merged triangle and corner (3 values each) the barycentric
+  /// coordinates of that corner in source_face_a (they differ from bary_a
+  /// where a vertex sits on an edge or a vertex of A: then they are its
+  /// coordinates in this face). corner_bary_b the same for B.
+  Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor> corner_bary_a, corner_bary_b;
+  /// #M: 0 a vertex of A, 1 a vertex of B, 2 a vertex of both (within
+  /// merge_tolerance), 3 a crossing of an edge of A with an edge of B.
+  VectorXi vertex_kind;
+  /// #VA: the merged vertex of each vertex of A (A's vertices come first, so
+  /// vertex_of_a[i] == i); #VB: the same for B. Every input vertex is one
+  /// merged vertex.
+  VectorXi vertex_of_a, vertex_of_b;
+  OverlayStats stats;
+};
+
+/// sphere_a: #VA by 3 unit vectors (|v| within 1e-9 of 1, renormalised);
+/// FA: #FA by 3 faces of a closed genus-0 mesh, every face positively
+/// oriented (det(a, b, c) > 0, exact), the map covering the sphere once. The
+/// same for sphere_b, FB. Raises InvalidInputError (wrong shapes, indices,
+/// non-unit points, folded faces: their count and indices, a map covering the
+/// sphere more than once), the MeshError subclasses of the mesh checks (not
+/// closed, not genus 0, non-manifold, degenerate), Cancelled through
+/// `progress`.
+MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const MatrixX3d& sphere_b,
+                       const MatrixX3i& FB, const OverlayOptions& options = {},
+                       Progress* progress = nullptr);
+
+/// Area of the spherical triangle (a, b, c) of unit vectors, signed like
+/// det(a, b, c) (Van Oosterom & Strackee 1983).
+double spherical_triangle_area(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& c);
+
+}  // namespace paramorph::morph

@@ -1,0 +1,315 @@
+"""Spherical overlay of two sphere maps (thesis 4.4): pm.overlay -> MergedTopology.
+
+Every case goes through check_merged(), which asserts what the merged
+topology promises: spherical areas sum to 4 pi, no folded triangle, a closed
+consistently oriented 2-manifold of Euler characteristic 2, every input vertex
+present once, barycentric coordinates that reproject onto the merged vertices,
+and every edge of A and of B covered by a chain of merged edges (the merged
+triangles of the two faces of an input edge meet along a path from one end of
+the edge to the other)."""
+import numpy as np
+import pytest
+
+import meshes
+import paramorph_native as pm
+
+TOL = 1e-9  # the default merge_tolerance
+
+
+def rotation(seed, angle=None):
+    """A random rotation, or one by `angle` radians about a random axis."""
+    rng = np.random.default_rng(seed)
+    axis = rng.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    if angle is None:
+        angle = rng.uniform(0.5, 3.0)
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+def spherical_areas(V, F):
+    """Signed spherical triangle areas (Van Oosterom & Strackee)."""
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    det = np.einsum("ij,ij->i", a, np.cross(b, c))
+    dots = np.einsum("ij,ij->i", a, b) + np.einsum("ij,ij->i", b, c) + np.einsum("ij,ij->i", c, a)
+    return 2 * np.arctan2(det, 1 + dots)
+
+
+def orientations(V, F):
+    """det(a, b, c) through edge differences, (b - a) x (c - a) . (a + b + c):
+    the differences of nearby unit vectors are exact, so tiny triangles keep
+    their sign (the plain triple product's rounding is ~1e-16 absolute)."""
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    return np.einsum("ij,ij->i", np.cross(b - a, c - a), a + b + c)
+
+
+def half_edges(F):
+    return np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+
+
+def reproject(X, F, face, bary):
+    p = np.einsum("ij,ijk->ik", bary, X[F[face]])
+    return p / np.linalg.norm(p, axis=1, keepdims=True)
+
+
+def check_chains(r, X, F, source_face, vertex_of, name):
+    """Every input edge is a chain of merged edges: the merged edges between
+    triangles of its two faces form a path from one end to the other, and
+    merged triangles of faces that share no edge never meet along an edge."""
+    K = len(r.F)
+    he = half_edges(r.F)
+    tri = np.tile(np.arange(K), 3)
+    order = {(int(u), int(v)): int(t) for (u, v), t in zip(he, tri)}
+    twin_tri = np.array([order[(int(v), int(u))] for u, v in he])
+    fa, fb = source_face[tri], source_face[twin_tri]
+    seam = fa < fb  # each seam edge once
+    pairs = {}
+    for (u, v), f, g in zip(he[seam], fa[seam], fb[seam]):
+        pairs.setdefault((int(f), int(g)), []).append((int(u), int(v)))
+    input_edges = {}
+    for f in range(len(F)):
+        for k in range(3):
+            u, v = int(F[f, k]), int(F[f, (k + 1) % 3])
+            input_edges.setdefault((min(u, v), max(u, v)), []).append(f)
+    expected = {tuple(sorted(fs)): e for e, fs in input_edges.items()}
+    assert set(pairs) == set(expected), f"{name}: merged seams between faces that share no edge"
+    for faces, (u, v) in expected.items():
+        links = pairs[faces]
+        adjacency = {}
+        for p, q in links:
+            adjacency.setdefault(p, []).append(q)
+            adjacency.setdefault(q, []).append(p)
+        ends = [w for w, n in adjacency.items() if len(n) == 1]
+        assert all(len(n) <= 2 for n in adjacency.values()), f"{name}: edge {u}-{v} branches"
+        assert sorted(ends) == sorted([vertex_of[u], vertex_of[v]]), f"{name}: edge {u}-{v} not a path between its ends"
+        # A path visits every link once: walk it.
+        seen, prev, at = 1, -1, vertex_of[u]
+        while at != vertex_of[v]:
+            nxt = [w for w in adjacency[at] if w != prev][0]
+            prev, at, seen = at, nxt, seen + 1
+        assert seen == len(links) + 1, f"{name}: edge {u}-{v} has a loose piece"
+
+
+def check_merged(r, XA, FA, XB, FB, tol=TOL):
+    M, K = len(r.V), len(r.F)
+    # How far merging moved a vertex off its input points and arcs: the
+    # tolerance, or a few where a turned-over tiny cell was repaired.
+    assert r.stats.max_merge_distance <= 16 * tol
+    moved = max(tol, r.stats.max_merge_distance)
+    assert r.V.dtype == np.float64 and r.F.dtype == np.int32 and r.F.shape == (K, 3)
+    np.testing.assert_allclose(np.linalg.norm(r.V, axis=1), 1.0, atol=1e-14)
+    s = r.stats
+    assert s.folded == 0 and s.open_edges == 0 and s.degenerate_cells == 0
+    # Covers the sphere once, no fold (exact count above, robust floating sign here).
+    assert abs(spherical_areas(r.V, r.F).sum() - 4 * np.pi) < 1e-9
+    assert (orientations(r.V, r.F) > 0).all()
+    # Closed, consistently oriented 2-manifold, Euler characteristic 2.
+    he = half_edges(r.F)
+    keys = he[:, 0].astype(np.int64) * M + he[:, 1]
+    assert len(np.unique(keys)) == 3 * K, "a directed edge is used twice"
+    assert np.isin(he[:, 1].astype(np.int64) * M + he[:, 0], keys).all(), "an edge has one face"
+    assert M - 3 * K // 2 + K == 2
+    assert len(np.unique(r.F)) == M, "a merged vertex is in no triangle"
+    # Every input vertex is one merged vertex, at its place (within tol).
+    for X, vertex_of, kinds in ((XA, r.vertex_of_a, (0, 2)), (XB, r.vertex_of_b, (1, 2))):
+        assert len(vertex_of) == len(X) and len(np.unique(vertex_of)) == len(X)
+        assert np.isin(r.vertex_kind[vertex_of], kinds).all()
+        assert np.linalg.norm(r.V[vertex_of] - X / np.linalg.norm(X, axis=1, keepdims=True), axis=1).max() <= moved + 1e-15
+    np.testing.assert_array_equal(r.vertex_of_a, np.arange(len(XA)))
+    assert ((r.vertex_kind == 0) | (r.vertex_kind == 2)).sum() == len(XA)
+    assert ((r.vertex_kind == 1) | (r.vertex_kind == 2)).sum() == len(XB)
+    # Barycentric coordinates: convex, and they reproject onto V.
+    for X, F, face, bary, source, corner in ((XA, FA, r.face_a, r.bary_a, r.source_face_a, r.corner_bary_a),
+                                             (XB, FB, r.face_b, r.bary_b, r.source_face_b, r.corner_bary_b)):
+        assert bary.shape == (M, 3) and corner.shape == (K, 9)
+        assert (bary >= 0).all() and np.allclose(bary.sum(1), 1, atol=1e-12)
+        assert np.linalg.norm(reproject(X, F, face, bary) - r.V, axis=1).max() <= moved + 1e-14
+        cb = corner.reshape(K * 3, 3)
+        assert (cb >= 0).all() and np.allclose(cb.sum(1), 1, atol=1e-12)
+        at = reproject(X, F, np.repeat(source, 3), cb)
+        assert np.linalg.norm(at - r.V[r.F.reshape(-1)], axis=1).max() <= moved + 1e-14
+    check_chains(r, XA, FA, r.source_face_a, r.vertex_of_a, "A")
+    check_chains(r, XB, FB, r.source_face_b, r.vertex_of_b, "B")
+    # Euler on the arrangement: faces = |FA| + |FB| + crossings - 2 before merging.
+    assert s.cells == len(FA) + len(FB) + s.crossings - 2
+
+
+def sphere_map_of(V, F):
+    X = pm.sphere_map(V, F).positions
+    return X / np.linalg.norm(X, axis=1, keepdims=True)
+
+
+# --- generic cases -----------------------------------------------------------------
+
+def test_two_different_geodesic_spheres():
+    XA, FA = meshes.icosphere(2)
+    XB, FB = meshes.geodesic_sphere(5)
+    XB = XB @ rotation(1).T
+    r = pm.overlay(XA, FA, XB, FB)
+    check_merged(r, XA, FA, XB, FB)
+    # Generic position: nothing merged, every crossing is a vertex, and the
+    # merged faces follow from Euler (K = 2 M - 4, M = VA + VB + crossings).
+    assert r.stats.merged_vertices == 0 and r.stats.crossings > 0
+    assert len(r.V) == len(XA) + len(XB) + r.stats.crossings
+    assert np.bincount(r.vertex_kind, minlength=4).tolist() == [len(XA), len(XB), 0, r.stats.crossings]
+    assert len(r.F) == len(FA) + len(FB) + 2 * r.stats.crossings + 4
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_sphere_maps_of_noisy_blobs(seed):
+    VA, FA = meshes.noisy_blob(2, seed=seed)
+    VB, FB = meshes.tentacle_sphere(2, tentacles=3, length=1.0)
+    XA, XB = sphere_map_of(VA, FA), sphere_map_of(VB, FB) @ rotation(seed).T
+    r = pm.overlay(XA, FA, XB, FB)
+    check_merged(r, XA, FA, XB, FB)
+    # Swapping the maps gives the same arrangement (the perturbation is B's).
+    r2 = pm.overlay(XB, FB, XA, FA)
+    check_merged(r2, XB, FB, XA, FA)
+    assert r2.stats.crossings == r.stats.crossings and len(r2.F) == len(r.F)
+
+
+# --- degenerate cases ------------------------------------------------------------------
+
+def test_a_map_with_itself_is_the_map():
+    XA, FA = meshes.icosphere(2)
+    r = pm.overlay(XA, FA, XA, FA)
+    check_merged(r, XA, FA, XA, FA)
+    assert (r.vertex_kind == 2).all() and len(r.V) == len(XA)
+    assert r.stats.max_merge_distance < 1e-15
+    np.testing.assert_allclose(r.V, XA, rtol=0, atol=1e-15)  # renormalised: an ulp
+    np.testing.assert_array_equal(r.vertex_of_b, np.arange(len(XA)))
+    assert canonical(r.F) == canonical(FA)
+
+
+def canonical(F):
+    """Triangles as a set, each rotated to start at its smallest index."""
+    F = np.asarray(F)
+    k = np.argmin(F, axis=1)
+    rows = np.arange(len(F))
+    return {tuple(t) for t in np.stack([F[rows, k], F[rows, (k + 1) % 3], F[rows, (k + 2) % 3]], 1).tolist()}
+
+
+def test_refinement_with_vertices_on_every_edge_and_vertex():
+    # B = A subdivided: B's vertices lie on A's vertices and (within rounding)
+    # on the middles of A's edges, B's edges run along A's. The overlay is B.
+    XA, FA = meshes.icosphere(2)
+    XB, FB = meshes.icosphere(3)
+    for X1, F1, X2, F2 in ((XA, FA, XB, FB), (XB, FB, XA, FA)):
+        r = pm.overlay(X1, F1, X2, F2)
+        check_merged(r, X1, F1, X2, F2)
+        assert len(r.F) == len(FB) and len(r.V) == len(XB)
+        assert (r.vertex_kind == 2).sum() == len(XA) and (r.vertex_kind == 3).sum() == 0
+
+
+def test_vertices_exactly_on_edges_of_a_great_circle():
+    # A cube-like octahedron split along the equator z = 0: B's equator
+    # vertices lie exactly (z == 0.0) on A's equator edges.
+    XA, FA = octahedron()
+    angles = np.linspace(0, 2 * np.pi, 9)[:-1] + 0.1
+    ring = np.stack([np.cos(angles), np.sin(angles), np.zeros_like(angles)], 1)
+    XB = np.vstack([[[0, 0, 1], [0, 0, -1]], ring])
+    n = len(angles)
+    FB = np.array([[0, 2 + i, 2 + (i + 1) % n] for i in range(n)] +
+                  [[1, 2 + (i + 1) % n, 2 + i] for i in range(n)], dtype=np.int32)
+    r = pm.overlay(XA, FA, XB, FB)
+    check_merged(r, XA, FA, XB, FB)
+    # Poles coincide, the equator is one chain through A's 4 and B's 8
+    # points, no crossing survives.
+    assert (r.vertex_kind == 2).sum() == 2 and (r.vertex_kind == 3).sum() == 0
+    assert len(r.V) == 6 + 10 - 2 and r.stats.max_merge_distance < 1e-15
+
+
+def octahedron():
+    X = np.array([[0, 0, 1], [0, 0, -1], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]], dtype=float)
+    F = np.array([[0, 2, 3], [0, 3, 4], [0, 4, 5], [0, 5, 2],
+                  [1, 3, 2], [1, 4, 3], [1, 5, 4], [1, 2, 5]], dtype=np.int32)
+    return X, F
+
+
+@pytest.mark.parametrize("angle", [1e-15, 1e-12, 1e-10])
+def test_tiny_rotations_merge_back_to_the_map(angle):
+    # B = A turned by far less than the tolerance: no cracks, folds or
+    # slivers, just A again with every vertex of both.
+    XA, FA = meshes.icosphere(3)
+    XB = XA @ rotation(5, angle).T
+    r = pm.overlay(XA, FA, XB, FA)
+    check_merged(r, XA, FA, XB, FA)
+    assert (r.vertex_kind == 2).all() and canonical(r.F) == canonical(FA)
+    # Refined copy turned: the overlay is the refinement.
+    XS, FS = meshes.icosphere(4)
+    r = pm.overlay(XA, FA, XS @ rotation(6, angle).T, FS)
+    check_merged(r, XA, FA, XS @ rotation(6, angle).T, FS)
+    assert len(r.F) == len(FS) and (r.vertex_kind == 3).sum() == 0
+
+
+@pytest.mark.parametrize("angle", [2e-9, 5e-9, 3e-8, 1e-6])
+def test_rotations_near_the_tolerance_stay_valid(angle):
+    # Between the tolerance and visible size the overlay keeps real but tiny
+    # cells; they must still be a valid, fold-free triangulation.
+    XA, FA = meshes.icosphere(3)
+    XS, FS = meshes.icosphere(4)
+    for seed in range(3):
+        R = rotation(10 + seed, angle)
+        r = pm.overlay(XA, FA, XA @ R.T, FA)
+        check_merged(r, XA, FA, XA @ R.T, FA)
+        r = pm.overlay(XA, FA, XS @ R.T, FS)
+        check_merged(r, XA, FA, XS @ R.T, FS)
+
+
+def test_merge_tolerance_decides_what_is_one_point():
+    XA, FA = meshes.icosphere(2)
+    XB = XA @ rotation(3, 1e-7).T
+    apart = pm.overlay(XA, FA, XB, FA)  # 1e-7 > 1e-9: two vertices each
+    check_merged(apart, XA, FA, XB, FA)
+    assert (apart.vertex_kind == 2).sum() == 0
+    together = pm.overlay(XA, FA, XB, FA, merge_tolerance=1e-6)
+    check_merged(together, XA, FA, XB, FA, tol=1e-6)
+    assert (together.vertex_kind == 2).all() and canonical(together.F) == canonical(FA)
+
+
+# --- input checks -------------------------------------------------------------------
+
+def test_errors():
+    XA, FA = meshes.icosphere(2)
+    folded = XA.copy()
+    folded[FA[0, 0]] = -folded[FA[0, 0]]
+    with pytest.raises(pm.InvalidInputError, match="sphere_b: the map folds [0-9]+ faces"):
+        pm.overlay(XA, FA, folded, FA)
+    with pytest.raises(pm.InvalidInputError, match="not unit vectors"):
+        pm.overlay(XA * 1.01, FA, XA, FA)
+    with pytest.raises(pm.InvalidInputError, match="shape"):
+        pm.overlay(XA[:, :2], FA, XA, FA)
+    with pytest.raises(pm.InvalidInputError, match="out of range"):
+        pm.overlay(XA, FA, XA, FA + len(XA))
+    with pytest.raises(pm.InvalidInputError, match="merge_tolerance"):
+        pm.overlay(XA, FA, XA, FA, merge_tolerance=-1.0)
+    Vd, Fd = meshes.open_disc()
+    with pytest.raises(pm.NotClosedError, match="sphere_a"):
+        pm.overlay(Vd / np.linalg.norm(Vd, axis=1, keepdims=True), Fd, XA, FA)
+    Vt, Ft = meshes.torus()
+    with pytest.raises(pm.NotGenusZeroError):
+        pm.overlay(XA, FA, Vt / np.linalg.norm(Vt, axis=1, keepdims=True), Ft)
+    with pytest.raises(pm.InvalidInputError, match="covers the sphere 2 times"):
+        pm.overlay(*double_cover(), XA, FA)
+    with pytest.raises(pm.Cancelled):
+        pm.overlay(XA, FA, XA, FA, progress=lambda fraction, stage: False)
+
+
+def double_cover():
+    """A closed genus-0 mesh whose positive faces wrap the sphere twice: a
+    bipyramid over 8 equator points that go around the equator twice in
+    quarter turns, the poles joined to all of them."""
+    n = 8
+    angles = np.arange(n) * np.pi / 2 + 0.1 * (np.arange(n) >= 4)
+    ring = np.stack([np.cos(angles), np.sin(angles), np.zeros(n)], 1)
+    X = np.vstack([[[0, 0, 1], [0, 0, -1]], ring])
+    F = np.array([[0, 2 + i, 2 + (i + 1) % n] for i in range(n)] +
+                 [[1, 2 + (i + 1) % n, 2 + i] for i in range(n)], dtype=np.int32)
+    return X, F
+
+
+def test_progress_is_reported():
+    XA, FA = meshes.icosphere(2)
+    seen = []
+    pm.overlay(XA, FA, XA @ rotation(2).T, FA, progress=lambda fraction, stage: seen.append(fraction) or True)
+    assert seen[0] == 0.0 and seen[-1] == 1.0 and seen == sorted(seen)
