@@ -3,8 +3,10 @@
 // check of the merged mesh that the stats report.
 #include "morph/spherical_overlay.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -92,6 +94,19 @@ SphereMapTopology prepare(const MatrixX3d& sphere, const MatrixX3i& F, const std
     rethrow_named(name);
   }
   return map;
+}
+
+/// Smallest altitude (as a chord, the angle at that scale) of the map's faces:
+/// twice the flat triangle's area over its longest edge.
+double thinnest_face(const SphereMapTopology& map) {
+  double thinnest = std::numeric_limits<double>::infinity();
+  for (Index f = 0; f < map.F.rows(); ++f) {
+    const Vec3 a = map.X.row(map.F(f, 0)), b = map.X.row(map.F(f, 1)), c = map.X.row(map.F(f, 2));
+    const double longest =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    thinnest = std::min(thinnest, (b - a).cross(c - a).norm() / std::sqrt(longest));
+  }
+  return thinnest;
 }
 
 /// Barycentric coordinates of P in face (s0, s1, s2) by central projection,
@@ -308,7 +323,6 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
                  options.merge_tolerance < 1e-3,
              InvalidInputError, "merge_tolerance is an angle in radians in [0, 1e-3), got ",
              options.merge_tolerance);
-  const double tolerance = std::max(options.merge_tolerance, 1e-15);
   MergedTopology out;
   OverlayStats& stats = out.stats;
   if (progress) progress->report(0.0, "overlay");
@@ -316,6 +330,11 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
   auto phase = Clock::now();
   const SphereMapTopology a = prepare(sphere_a, FA, "sphere_a");
   const SphereMapTopology b = prepare(sphere_b, FB, "sphere_b");
+  // Merging must stay finer than either map's own detail, or it would have to
+  // join two vertices of one map (which it never does) to stay consistent.
+  const double thinnest = std::min(thinnest_face(a), thinnest_face(b));
+  const double tolerance = std::max(std::min(options.merge_tolerance, 0.25 * thinnest), 1e-15);
+  stats.merge_tolerance = tolerance;
   stats.seconds_validate = seconds_since(phase);
 
   phase = Clock::now();
@@ -418,6 +437,12 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
     stats.folded += orientation(out.V.row(out.F(t, 0)).data(), out.V.row(out.F(t, 1)).data(),
                                 out.V.row(out.F(t, 2)).data()) <= 0;
   stats.open_edges = open_half_edges(out.F, count);
+  PM_REQUIRE(stats.folded == 0 && stats.open_edges == 0, InvalidInputError,
+             "the maps nearly coincide at a scale below what double precision resolves for "
+             "their thinnest faces (altitude ", thinnest, " rad): the merged topology would have ",
+             stats.folded, " folded triangles and ", stats.open_edges,
+             " unmatched half-edges; use fold-free maps with fatter faces (optimize_sphere_map) "
+             "or turn one map slightly");
   stats.seconds_attributes = seconds_since(phase);
   stats.seconds = seconds_since(started);
   if (progress) progress->report(1.0, "overlay");
