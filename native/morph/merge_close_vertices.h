@@ -46,15 +46,15 @@ struct ClusterAnchors {
 bool may_merge(const ClusterAnchors& p, const ClusterAnchors& q);
 
 struct VertexClusters {
-  VectorXi cluster;     ///< per arrangement vertex: its cluster, in [0, #clusters)
-  MatrixX3d position;   ///< #clusters by 3: the unit vector each cluster stands for
-  VectorXi vertex_a;    ///< per cluster: its vertex of A, or -1
-  VectorXi vertex_b;    ///< per cluster: its vertex of B, or -1
+  VectorXi cluster;    ///< per arrangement vertex: its cluster, in [0, #clusters)
+  MatrixX3d position;  ///< #clusters by 3: the unit vector each cluster stands for
+  VectorXi vertex_a;   ///< per cluster: its vertex of A, or -1
+  VectorXi vertex_b;   ///< per cluster: its vertex of B, or -1
   /// Per cluster: an edge of A through it (that of a crossing in it) when it
   /// has no vertex of A, else -1; edge_b the same for B.
   VectorXi edge_a, edge_b;
   VectorXi representative;  ///< per cluster: the arrangement vertex whose position it takes
-  Index merged = 0;     ///< arrangement vertices merged into another (vertices - clusters)
+  Index merged = 0;         ///< arrangement vertices merged into another (vertices - clusters)
   /// Largest distance from a merged cluster's position to the input vertices
   /// and arcs its members stand for (<= tolerance without forced pairs).
   double max_deviation = 0;

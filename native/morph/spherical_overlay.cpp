@@ -3,16 +3,15 @@
 // check of the merged mesh that the stats report.
 #include "morph/spherical_overlay.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "mesh/face_neighbors.h"
@@ -367,39 +366,52 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
   const std::vector<Index>& tri_face_a = cells.face_a;
   const std::vector<Index>& tri_face_b = cells.face_b;
 
-  // Merged vertices: the clusters that triangles use. Every input vertex must
-  // be one of them (its cells cannot all vanish).
+  // Merged vertices: the clusters that triangles use.
   phase = Clock::now();
   const Index num_clusters = clusters.size();
   VectorXi new_id = VectorXi::Constant(num_clusters, -1);
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k) new_id[t[k]] = 0;
-  Index count = 0;
+  Index count = 0, lost = 0;  // lost: input vertices in no triangle
   for (Index k = 0; k < num_clusters; ++k) {
-    if (new_id[k] == 0) {
+    if (new_id[k] == 0)
       new_id[k] = count++;
-    } else if (clusters.vertex_a[k] >= 0 || clusters.vertex_b[k] >= 0) {
-      throw std::logic_error("overlay: an input vertex has no merged triangle");
-    }
+    else
+      lost += (clusters.vertex_a[k] >= 0) + (clusters.vertex_b[k] >= 0);
   }
   const Index K = Index(triangles.size());
   out.F.resize(K, 3);
   for (Index t = 0; t < K; ++t)
     for (int k = 0; k < 3; ++k) out.F(t, k) = new_id[triangles[t][k]];
+  out.V.resize(count, 3);
+  for (Index k = 0; k < num_clusters; ++k)
+    if (new_id[k] >= 0) out.V.row(new_id[k]) = clusters.position.row(k);
+
+  // The checks the contract promises (exact orientation, twins, every input
+  // vertex present), before anything else is built on the result.
+  for (Index t = 0; t < K; ++t)
+    stats.folded += orientation(out.V.row(out.F(t, 0)).data(), out.V.row(out.F(t, 1)).data(),
+                                out.V.row(out.F(t, 2)).data()) <= 0;
+  stats.open_edges = open_half_edges(out.F, count);
+  PM_REQUIRE(stats.folded == 0 && stats.open_edges == 0 && lost == 0, InvalidInputError,
+             "the maps nearly coincide at a scale below what double precision resolves for "
+             "their thinnest faces (altitude ",
+             thinnest, " rad): the merged topology would have ", stats.folded,
+             " folded triangles, ", stats.open_edges, " unmatched half-edges and ", lost,
+             " input vertices missing; use fold-free maps with fatter faces "
+             "(optimize_sphere_map) or turn one map slightly");
   out.source_face_a = Eigen::Map<const VectorXi>(tri_face_a.data(), K);
   out.source_face_b = Eigen::Map<const VectorXi>(tri_face_b.data(), K);
 
   // Supports: a vertex of the map if the cluster has one, else an edge of the
   // map through it (a crossing), else the face the perturbed walk found.
   std::vector<Support> support_a(static_cast<std::size_t>(count)), support_b(support_a);
-  out.V.resize(count, 3);
   out.vertex_kind.resize(count);
   out.vertex_of_a.resize(a.X.rows());
   out.vertex_of_b.resize(b.X.rows());
   for (Index k = 0; k < num_clusters; ++k) {
     const Index m = new_id[k];
     if (m < 0) continue;
-    out.V.row(m) = clusters.position.row(k);
     const Index va = clusters.vertex_a[k], vb = clusters.vertex_b[k];
     out.vertex_kind[m] = va >= 0 ? (vb >= 0 ? 2 : 0) : (vb >= 0 ? 1 : 3);
     if (va >= 0) out.vertex_of_a[va] = m;
@@ -432,17 +444,6 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
           locate_b.in_face(in_b[m], P, out.source_face_b[t]).transpose();
     }
 
-  // The checks the contract promises, reported (exact orientation; twins).
-  for (Index t = 0; t < K; ++t)
-    stats.folded += orientation(out.V.row(out.F(t, 0)).data(), out.V.row(out.F(t, 1)).data(),
-                                out.V.row(out.F(t, 2)).data()) <= 0;
-  stats.open_edges = open_half_edges(out.F, count);
-  PM_REQUIRE(stats.folded == 0 && stats.open_edges == 0, InvalidInputError,
-             "the maps nearly coincide at a scale below what double precision resolves for "
-             "their thinnest faces (altitude ", thinnest, " rad): the merged topology would have ",
-             stats.folded, " folded triangles and ", stats.open_edges,
-             " unmatched half-edges; use fold-free maps with fatter faces (optimize_sphere_map) "
-             "or turn one map slightly");
   stats.seconds_attributes = seconds_since(phase);
   stats.seconds = seconds_since(started);
   if (progress) progress->report(1.0, "overlay");

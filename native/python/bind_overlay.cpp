@@ -19,9 +19,10 @@ void def_overlay(py::module_& m) {
       .def_readonly("crossings", &OverlayStats::crossings, "arc crossings of the exact arrangement")
       .def_readonly("merged_vertices", &OverlayStats::merged_vertices,
                     "arrangement vertices merged into another (within merge_tolerance)")
-      .def_readonly("max_merge_distance", &OverlayStats::max_merge_distance,
-                    "largest distance (radians) from a merged vertex to the input vertices and arcs it "
-                    "stands for (<= merge_tolerance unless a turned-over tiny cell was repaired)")
+      .def_readonly(
+          "max_merge_distance", &OverlayStats::max_merge_distance,
+          "largest distance (radians) from a merged vertex to the input vertices and arcs it "
+          "stands for (<= merge_tolerance unless a turned-over tiny cell was repaired)")
       .def_readonly("degenerate_cells", &OverlayStats::degenerate_cells,
                     "cell pieces with no positive triangulation (0 expected)")
       .def_readonly("folded", &OverlayStats::folded, "merged triangles with det <= 0 (checked: 0)")
@@ -33,33 +34,47 @@ void def_overlay(py::module_& m) {
       .def_readonly("seconds_triangulate", &OverlayStats::seconds_triangulate)
       .def_readonly("seconds_attributes", &OverlayStats::seconds_attributes)
       .def_readonly("seconds", &OverlayStats::seconds);
-  py::class_<MergedTopology>(m, "MergedTopology", "Result of overlay(): the merged topology of two sphere maps.")
-      .def_property_readonly("V", [](const MergedTopology& r) { return to_numpy(r.V); },
-                             "(M, 3) float64 merged vertices on the unit sphere")
-      .def_property_readonly("F", [](const MergedTopology& r) { return to_numpy(r.F); },
-                             "(K, 3) int32 merged triangles, det > 0, closed genus 0")
-      .def_property_readonly("face_a", [](const MergedTopology& r) { return to_numpy(r.face_a); },
-                             "(M,) int32: a face of A holding each merged vertex")
-      .def_property_readonly("bary_a", [](const MergedTopology& r) { return to_numpy(r.bary_a); },
-                             "(M, 3) float64 barycentric coordinates in face_a (central projection)")
-      .def_property_readonly("face_b", [](const MergedTopology& r) { return to_numpy(r.face_b); },
-                             "(M,) int32: a face of B holding each merged vertex")
-      .def_property_readonly("bary_b", [](const MergedTopology& r) { return to_numpy(r.bary_b); },
-                             "(M, 3) float64 barycentric coordinates in face_b")
-      .def_property_readonly("source_face_a", [](const MergedTopology& r) { return to_numpy(r.source_face_a); },
-                             "(K,) int32: the face of A each merged triangle lies in")
-      .def_property_readonly("source_face_b", [](const MergedTopology& r) { return to_numpy(r.source_face_b); },
-                             "(K,) int32: the face of B each merged triangle lies in")
-      .def_property_readonly("corner_bary_a", [](const MergedTopology& r) { return to_numpy(r.corner_bary_a); },
-                             "(K, 9) float64: per triangle corner, its coordinates in source_face_a")
-      .def_property_readonly("corner_bary_b", [](const MergedTopology& r) { return to_numpy(r.corner_bary_b); },
-                             "(K, 9) float64: per triangle corner, its coordinates in source_face_b")
-      .def_property_readonly("vertex_kind", [](const MergedTopology& r) { return to_numpy(r.vertex_kind); },
-                             "(M,) int32: 0 vertex of A, 1 of B, 2 of both, 3 edge-edge crossing")
-      .def_property_readonly("vertex_of_a", [](const MergedTopology& r) { return to_numpy(r.vertex_of_a); },
-                             "(VA,) int32: the merged vertex of each vertex of A")
-      .def_property_readonly("vertex_of_b", [](const MergedTopology& r) { return to_numpy(r.vertex_of_b); },
-                             "(VB,) int32: the merged vertex of each vertex of B")
+  py::class_<MergedTopology>(m, "MergedTopology",
+                             "Result of overlay(): the merged topology of two sphere maps.")
+      .def_property_readonly(
+          "V", [](const MergedTopology& r) { return to_numpy(r.V); },
+          "(M, 3) float64 merged vertices on the unit sphere")
+      .def_property_readonly(
+          "F", [](const MergedTopology& r) { return to_numpy(r.F); },
+          "(K, 3) int32 merged triangles, det > 0, closed genus 0")
+      .def_property_readonly(
+          "face_a", [](const MergedTopology& r) { return to_numpy(r.face_a); },
+          "(M,) int32: a face of A holding each merged vertex")
+      .def_property_readonly(
+          "bary_a", [](const MergedTopology& r) { return to_numpy(r.bary_a); },
+          "(M, 3) float64 barycentric coordinates in face_a (central projection)")
+      .def_property_readonly(
+          "face_b", [](const MergedTopology& r) { return to_numpy(r.face_b); },
+          "(M,) int32: a face of B holding each merged vertex")
+      .def_property_readonly(
+          "bary_b", [](const MergedTopology& r) { return to_numpy(r.bary_b); },
+          "(M, 3) float64 barycentric coordinates in face_b")
+      .def_property_readonly(
+          "source_face_a", [](const MergedTopology& r) { return to_numpy(r.source_face_a); },
+          "(K,) int32: the face of A each merged triangle lies in")
+      .def_property_readonly(
+          "source_face_b", [](const MergedTopology& r) { return to_numpy(r.source_face_b); },
+          "(K,) int32: the face of B each merged triangle lies in")
+      .def_property_readonly(
+          "corner_bary_a", [](const MergedTopology& r) { return to_numpy(r.corner_bary_a); },
+          "(K, 9) float64: per triangle corner, its coordinates in source_face_a")
+      .def_property_readonly(
+          "corner_bary_b", [](const MergedTopology& r) { return to_numpy(r.corner_bary_b); },
+          "(K, 9) float64: per triangle corner, its coordinates in source_face_b")
+      .def_property_readonly(
+          "vertex_kind", [](const MergedTopology& r) { return to_numpy(r.vertex_kind); },
+          "(M,) int32: 0 vertex of A, 1 of B, 2 of both, 3 edge-edge crossing")
+      .def_property_readonly(
+          "vertex_of_a", [](const MergedTopology& r) { return to_numpy(r.vertex_of_a); },
+          "(VA,) int32: the merged vertex of each vertex of A")
+      .def_property_readonly(
+          "vertex_of_b", [](const MergedTopology& r) { return to_numpy(r.vertex_of_b); },
+          "(VB,) int32: the merged vertex of each vertex of B")
       .def_readonly("stats", &MergedTopology::stats)
       .def("__repr__", [](const MergedTopology& r) {
         return "<MergedTopology vertices=" + std::to_string(r.V.rows()) +
@@ -72,10 +87,12 @@ void def_overlay(py::module_& m) {
          const py::object& FB, double merge_tolerance, py::object progress) {
         morph::OverlayOptions o;
         o.merge_tolerance = merge_tolerance;
-        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(sphere_b, "sphere_b");
+        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"),
+                        sb = to_vertices(sphere_b, "sphere_b");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         PythonProgress bridge(std::move(progress));
-        return run_without_gil(bridge, [&] { return morph::overlay(sa, fa, sb, fb, o, bridge.get()); });
+        return run_without_gil(bridge,
+                               [&] { return morph::overlay(sa, fa, sb, fb, o, bridge.get()); });
       },
       py::arg("sphere_a"), py::arg("FA"), py::arg("sphere_b"), py::arg("FB"), py::kw_only(),
       py::arg("merge_tolerance") = 1e-9, py::arg("progress") = py::none(),
@@ -109,6 +126,8 @@ returned broken), the MeshError subclasses of a mesh that is not closed genus
 
 }  // namespace
 
-void bind_overlay(py::module_& m) { def_overlay(m); }
+void bind_overlay(py::module_& m) {
+  def_overlay(m);
+}
 
 }  // namespace paramorph::python
