@@ -1,11 +1,10 @@
 // Merging arrangement vertices that stand for one point (morph/merge_close_vertices.h).
 #include "morph/merge_close_vertices.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <limits>
 #include <utility>
-
-#include <Eigen/Geometry>
 
 namespace paramorph::morph {
 
@@ -179,10 +178,10 @@ bool may_merge(const ClusterAnchors& p, const ClusterAnchors& q) {
   if ((p.vertex_a >= 0 && q.vertex_a >= 0) || (p.vertex_b >= 0 && q.vertex_b >= 0)) return false;
   // Without a vertex of A, a group lies on at most one edge of A (else two of
   // A's arcs would share a piece next to their common vertex); same for B.
-  const bool a_ok = p.vertex_a >= 0 || q.vertex_a >= 0 || p.edge_a < 0 || q.edge_a < 0 ||
-                    p.edge_a == q.edge_a;
-  const bool b_ok = p.vertex_b >= 0 || q.vertex_b >= 0 || p.edge_b < 0 || q.edge_b < 0 ||
-                    p.edge_b == q.edge_b;
+  const bool a_ok =
+      p.vertex_a >= 0 || q.vertex_a >= 0 || p.edge_a < 0 || q.edge_a < 0 || p.edge_a == q.edge_a;
+  const bool b_ok =
+      p.vertex_b >= 0 || q.vertex_b >= 0 || p.edge_b < 0 || q.edge_b < 0 || p.edge_b == q.edge_b;
   return a_ok && b_ok;
 }
 
@@ -202,10 +201,12 @@ VertexClusters merge_close_vertices(const SphereArrangement& ar, const SphereMap
     const bool au = supports.is_a(u), av = supports.is_a(v);
     const bool bu = supports.is_b(u), bv = supports.is_b(v);
     if ((au && av) || (bu && bv)) return -1.0;
-    if (au || av) return au ? supports.deviation(v, supports.position(u))
-                            : supports.deviation(u, supports.position(v));
-    if (bu || bv) return bu ? supports.deviation(v, supports.position(u))
-                            : supports.deviation(u, supports.position(v));
+    if (au || av)
+      return au ? supports.deviation(v, supports.position(u))
+                : supports.deviation(u, supports.position(v));
+    if (bu || bv)
+      return bu ? supports.deviation(v, supports.position(u))
+                : supports.deviation(u, supports.position(v));
     return std::min(supports.deviation(v, supports.position(u)),
                     supports.deviation(u, supports.position(v)));
   };

@@ -36,8 +36,8 @@ Index locate_on_sphere(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3i& 
     int k = -1;
     for (int t = 0; t < 3 && k < 0; ++t)
       if (side(X, F, ranked_vertices, f, (first + t) % 3, p) < 0) k = (first + t) % 3;
-    if (k < 0) return f;                // no edge separates p from f
-    if (neighbors(f, k) < 0) break;     // an open map: test every face instead
+    if (k < 0) return f;             // no edge separates p from f
+    if (neighbors(f, k) < 0) break;  // an open map: test every face instead
     f = neighbors(f, k);
   }
   for (Index g = 0; g < faces; ++g)

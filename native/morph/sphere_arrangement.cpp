@@ -2,9 +2,8 @@
 // (morph/sphere_arrangement.h).
 #include "morph/sphere_arrangement.h"
 
-#include <stdexcept>
-
 #include <Eigen/Geometry>
+#include <stdexcept>
 
 #include "morph/point_location.h"
 #include "morph/sphere_predicates.h"
@@ -15,7 +14,9 @@ namespace {
 
 // Local numbering inside a cell: edge i of a face runs from its corner i to
 // corner i + 1, which is the edge opposite corner i + 2 in TriMesh's numbering.
-inline int opposite(int i) { return (i + 2) % 3; }
+inline int opposite(int i) {
+  return (i + 2) % 3;
+}
 
 /// Builds the cell of one face of A and one face of B and names its vertices.
 class CellBuilder {
@@ -177,7 +178,8 @@ SphereArrangement arrange_sphere_maps(const SphereMapTopology& a, const SphereMa
   // Seed: vertex 0 of B, located in A; its cell with any face of B around it.
   const Index fb0 = face_at_vertex(b.F, 0);
   const Index fa0 = locate_on_sphere(a.X, a.F, a.neighbors, false, {b.X.row(0).data(), 0}, 0);
-  if (fa0 < 0 || fb0 < 0) throw std::logic_error("overlay: the first vertex of B is in no face of A");
+  if (fa0 < 0 || fb0 < 0)
+    throw std::logic_error("overlay: the first vertex of B is in no face of A");
 
   // Face by face of A (breadth first); inside each, a flood over the faces of
   // B that overlap it. seed_b[fa] >= 0 once fa is queued; stamp[fb] == fa
@@ -203,8 +205,7 @@ SphereArrangement arrange_sphere_maps(const SphereMapTopology& a, const SphereMa
             if (fb2 >= 0 && stamp[fb2] != fa) stamp[fb2] = fa, stack_b.push_back(fb2);
           });
     }
-    if ((head & 1023) == 0)
-      progress.report(double(head) / double(faces_a), "overlay: arrangement");
+    if ((head & 1023) == 0) progress.report(double(head) / double(faces_a), "overlay: arrangement");
   }
   if (Index(queue_a.size()) != faces_a)
     throw std::logic_error("overlay: the walk did not reach every face of A");

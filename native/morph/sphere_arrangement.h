@@ -20,9 +20,8 @@
 // edge a zero-width strip); merge_close_vertices() removes them.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "common/progress.h"
 #include "mesh/types.h"
@@ -51,8 +50,8 @@ struct SphereArrangement {
   /// two arcs are nearly parallel; only its place along them is uncertain then.
   std::vector<Eigen::Vector3d> crossing_position;
   std::vector<Index> cell_face_a, cell_face_b;  ///< per cell, its face of A and of B
-  std::vector<Index> cell_start;  ///< #cells + 1 offsets into corner and side
-  std::vector<Index> corner;      ///< per cell its polygon (vertex ids), counter-clockwise
+  std::vector<Index> cell_start;                ///< #cells + 1 offsets into corner and side
+  std::vector<Index> corner;  ///< per cell its polygon (vertex ids), counter-clockwise
   /// side[k]: the edge the cell side from corner[k] to the next corner lies on:
   /// an edge e of A as e, an edge e of B as -1 - e.
   std::vector<Index> side;

@@ -13,8 +13,8 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 /// Exact sign of x0 * y1 - x1 * y0: the 2D orientation of (0, (x0, y0), (x1, y1)).
 int sign_of_minor(double x0, double y0, double x1, double y1) {
-  return int(CGAL::orientation(Kernel::Point_2(0, 0), Kernel::Point_2(x0, y0),
-                               Kernel::Point_2(x1, y1)));
+  return int(
+      CGAL::orientation(Kernel::Point_2(0, 0), Kernel::Point_2(x0, y0), Kernel::Point_2(x1, y1)));
 }
 
 bool same_point(const double* p, const double* q) {
@@ -29,7 +29,9 @@ int cross_component_sign(const double* a, const double* b, int component) {
   return sign_of_minor(a[i], a[j], b[i], b[j]);  // (a x b)_c = a_i b_j - a_j b_i
 }
 
-int sign_of(double x) { return (x > 0) - (x < 0); }
+int sign_of(double x) {
+  return (x > 0) - (x < 0);
+}
 
 /// det(p, q, r + delta_r), r ranked, p and q fixed, given det(p, q, r) == 0:
 /// the expansion is sum_j delta_j (p x q)_j with delta_0 >> delta_1 >> delta_2.
@@ -83,8 +85,8 @@ int perturbed_orientation(const SpherePoint& p, const SpherePoint& q, const Sphe
   // A repeated point makes the determinant exactly 0 without asking CGAL,
   // whose filter would fail and fall back to exact arithmetic (the common
   // tie where a vertex of B sits on a vertex of A).
-  const bool repeated = same_point(p.xyz, q.xyz) || same_point(q.xyz, r.xyz) ||
-                        same_point(r.xyz, p.xyz);
+  const bool repeated =
+      same_point(p.xyz, q.xyz) || same_point(q.xyz, r.xyz) || same_point(r.xyz, p.xyz);
   if (!repeated)
     if (const int s = orientation(p.xyz, q.xyz, r.xyz)) return s;
   const int ranked = (p.rank >= 0) + (q.rank >= 0) + (r.rank >= 0);
@@ -93,7 +95,7 @@ int perturbed_orientation(const SpherePoint& p, const SpherePoint& q, const Sphe
   if (ranked == 1) {
     if (r.rank >= 0) return one_perturbed(p.xyz, q.xyz);
     if (p.rank >= 0) return one_perturbed(q.xyz, r.xyz);  // det(p*, q, r) = det(q, r, p*)
-    return one_perturbed(r.xyz, p.xyz);                    // det(p, q*, r) = det(r, p, q*)
+    return one_perturbed(r.xyz, p.xyz);                   // det(p, q*, r) = det(r, p, q*)
   }
   if (ranked == 2) {
     if (r.rank < 0) return two_perturbed(p.xyz, p.rank, q.xyz, q.rank, r.xyz);

@@ -3,14 +3,15 @@
 // check of the merged mesh that the stats report.
 #include "morph/spherical_overlay.h"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "mesh/face_neighbors.h"
@@ -92,6 +93,19 @@ SphereMapTopology prepare(const MatrixX3d& sphere, const MatrixX3i& F, const std
     rethrow_named(name);
   }
   return map;
+}
+
+/// Smallest altitude (as a chord, the angle at that scale) of the map's faces:
+/// twice the flat triangle's area over its longest edge.
+double thinnest_face(const SphereMapTopology& map) {
+  double thinnest = std::numeric_limits<double>::infinity();
+  for (Index f = 0; f < map.F.rows(); ++f) {
+    const Vec3 a = map.X.row(map.F(f, 0)), b = map.X.row(map.F(f, 1)), c = map.X.row(map.F(f, 2));
+    const double longest =
+        std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    thinnest = std::min(thinnest, (b - a).cross(c - a).norm() / std::sqrt(longest));
+  }
+  return thinnest;
 }
 
 /// Barycentric coordinates of P in face (s0, s1, s2) by central projection,
@@ -308,7 +322,6 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
                  options.merge_tolerance < 1e-3,
              InvalidInputError, "merge_tolerance is an angle in radians in [0, 1e-3), got ",
              options.merge_tolerance);
-  const double tolerance = std::max(options.merge_tolerance, 1e-15);
   MergedTopology out;
   OverlayStats& stats = out.stats;
   if (progress) progress->report(0.0, "overlay");
@@ -316,6 +329,11 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
   auto phase = Clock::now();
   const SphereMapTopology a = prepare(sphere_a, FA, "sphere_a");
   const SphereMapTopology b = prepare(sphere_b, FB, "sphere_b");
+  // Merging must stay finer than either map's own detail, or it would have to
+  // join two vertices of one map (which it never does) to stay consistent.
+  const double thinnest = std::min(thinnest_face(a), thinnest_face(b));
+  const double tolerance = std::max(std::min(options.merge_tolerance, 0.25 * thinnest), 1e-15);
+  stats.merge_tolerance = tolerance;
   stats.seconds_validate = seconds_since(phase);
 
   phase = Clock::now();
@@ -348,39 +366,52 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
   const std::vector<Index>& tri_face_a = cells.face_a;
   const std::vector<Index>& tri_face_b = cells.face_b;
 
-  // Merged vertices: the clusters that triangles use. Every input vertex must
-  // be one of them (its cells cannot all vanish).
+  // Merged vertices: the clusters that triangles use.
   phase = Clock::now();
   const Index num_clusters = clusters.size();
   VectorXi new_id = VectorXi::Constant(num_clusters, -1);
   for (const auto& t : triangles)
     for (int k = 0; k < 3; ++k) new_id[t[k]] = 0;
-  Index count = 0;
+  Index count = 0, lost = 0;  // lost: input vertices in no triangle
   for (Index k = 0; k < num_clusters; ++k) {
-    if (new_id[k] == 0) {
+    if (new_id[k] == 0)
       new_id[k] = count++;
-    } else if (clusters.vertex_a[k] >= 0 || clusters.vertex_b[k] >= 0) {
-      throw std::logic_error("overlay: an input vertex has no merged triangle");
-    }
+    else
+      lost += (clusters.vertex_a[k] >= 0) + (clusters.vertex_b[k] >= 0);
   }
   const Index K = Index(triangles.size());
   out.F.resize(K, 3);
   for (Index t = 0; t < K; ++t)
     for (int k = 0; k < 3; ++k) out.F(t, k) = new_id[triangles[t][k]];
+  out.V.resize(count, 3);
+  for (Index k = 0; k < num_clusters; ++k)
+    if (new_id[k] >= 0) out.V.row(new_id[k]) = clusters.position.row(k);
+
+  // The checks the contract promises (exact orientation, twins, every input
+  // vertex present), before anything else is built on the result.
+  for (Index t = 0; t < K; ++t)
+    stats.folded += orientation(out.V.row(out.F(t, 0)).data(), out.V.row(out.F(t, 1)).data(),
+                                out.V.row(out.F(t, 2)).data()) <= 0;
+  stats.open_edges = open_half_edges(out.F, count);
+  PM_REQUIRE(stats.folded == 0 && stats.open_edges == 0 && lost == 0, InvalidInputError,
+             "the maps nearly coincide at a scale below what double precision resolves for "
+             "their thinnest faces (altitude ",
+             thinnest, " rad): the merged topology would have ", stats.folded,
+             " folded triangles, ", stats.open_edges, " unmatched half-edges and ", lost,
+             " input vertices missing; use fold-free maps with fatter faces "
+             "(optimize_sphere_map) or turn one map slightly");
   out.source_face_a = Eigen::Map<const VectorXi>(tri_face_a.data(), K);
   out.source_face_b = Eigen::Map<const VectorXi>(tri_face_b.data(), K);
 
   // Supports: a vertex of the map if the cluster has one, else an edge of the
   // map through it (a crossing), else the face the perturbed walk found.
   std::vector<Support> support_a(static_cast<std::size_t>(count)), support_b(support_a);
-  out.V.resize(count, 3);
   out.vertex_kind.resize(count);
   out.vertex_of_a.resize(a.X.rows());
   out.vertex_of_b.resize(b.X.rows());
   for (Index k = 0; k < num_clusters; ++k) {
     const Index m = new_id[k];
     if (m < 0) continue;
-    out.V.row(m) = clusters.position.row(k);
     const Index va = clusters.vertex_a[k], vb = clusters.vertex_b[k];
     out.vertex_kind[m] = va >= 0 ? (vb >= 0 ? 2 : 0) : (vb >= 0 ? 1 : 3);
     if (va >= 0) out.vertex_of_a[va] = m;
@@ -413,11 +444,6 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
           locate_b.in_face(in_b[m], P, out.source_face_b[t]).transpose();
     }
 
-  // The checks the contract promises, reported (exact orientation; twins).
-  for (Index t = 0; t < K; ++t)
-    stats.folded += orientation(out.V.row(out.F(t, 0)).data(), out.V.row(out.F(t, 1)).data(),
-                                out.V.row(out.F(t, 2)).data()) <= 0;
-  stats.open_edges = open_half_edges(out.F, count);
   stats.seconds_attributes = seconds_since(phase);
   stats.seconds = seconds_since(started);
   if (progress) progress->report(1.0, "overlay");

@@ -36,34 +36,35 @@ struct OverlayOptions {
 
 /// What the overlay did and how long each step took.
 struct OverlayStats {
-  Index cells = 0;              ///< cells of the exact arrangement (face of A ∩ face of B)
-  Index crossings = 0;          ///< arc crossings of the exact arrangement
-  Index merged_vertices = 0;    ///< arrangement vertices merged into another
+  double merge_tolerance = 0;  ///< the tolerance used (see OverlayOptions::merge_tolerance)
+  Index cells = 0;             ///< cells of the exact arrangement (face of A ∩ face of B)
+  Index crossings = 0;         ///< arc crossings of the exact arrangement
+  Index merged_vertices = 0;   ///< arrangement vertices merged into another
   /// Largest distance (radians) from a merged vertex to the input vertices and
   /// arcs it stands for: <= merge_tolerance, except where a tiny cell that
   /// merging turned over was repaired by merging two of its vertices (at most
-  /// 16 merge_tolerance apart), which happens only in inputs with features of
-  /// about the tolerance's size.
+  /// 16 merge_tolerance apart), which happens only in inputs that nearly
+  /// coincide at about the tolerance's scale.
   double max_merge_distance = 0;
-  Index degenerate_cells = 0;   ///< cell pieces with no positive triangulation (0 expected)
-  Index folded = 0;             ///< merged triangles with det <= 0, exact (0 expected)
-  Index open_edges = 0;         ///< merged half-edges without one opposite twin (0 expected)
-  double seconds_validate = 0, seconds_arrangement = 0, seconds_merge = 0,
-         seconds_triangulate = 0, seconds_attributes = 0, seconds = 0;
+  Index degenerate_cells = 0;  ///< cell pieces with no positive triangulation (always 0: checked)
+  Index folded = 0;            ///< merged triangles with det <= 0, exact (always 0: checked)
+  Index open_edges = 0;        ///< merged half-edges without one opposite twin (always 0: checked)
+  double seconds_validate = 0, seconds_arrangement = 0, seconds_merge = 0, seconds_triangulate = 0,
+         seconds_attributes = 0, seconds = 0;
 };
 
 struct MergedTopology {
-  MatrixX3d V;         ///< #M by 3 merged vertices on the unit sphere
-  MatrixX3i F;         ///< #K by 3 merged triangles, det > 0 (the inputs' orientation),
-                       ///< a closed genus-0 manifold covering the sphere once
-  VectorXi face_a;     ///< #M: a face of A holding each merged vertex
+  MatrixX3d V;      ///< #M by 3 merged vertices on the unit sphere
+  MatrixX3i F;      ///< #K by 3 merged triangles, det > 0 (the inputs' orientation),
+                    ///< a closed genus-0 manifold covering the sphere once
+  VectorXi face_a;  ///< #M: a face of A holding each merged vertex
   /// #M by 3: barycentric coordinates of each merged vertex in face_a, by
   /// central projection (where the ray through V meets the flat triangle of
   /// sphere_a's corners): 1 at the corner for a vertex of A, 0 opposite the
   /// edge for a point on an edge of A (the same weights from both faces of the
   /// edge, so positions interpolated from A are continuous).
   MatrixX3d bary_a;
-  VectorXi face_b;     ///< #M: the same for B
+  VectorXi face_b;  ///< #M: the same for B
   MatrixX3d bary_b;
   VectorXi source_face_a;  ///< #K: the face of A each merged triangle lies in
   VectorXi source_face_b;  ///< #K: the face of B each merged triangle lies in
@@ -89,7 +90,11 @@ struct MergedTopology {
 /// non-unit points, folded faces: their count and indices, a map covering the
 /// sphere more than once), the MeshError subclasses of the mesh checks (not
 /// closed, not genus 0, non-manifold, degenerate), Cancelled through
-/// `progress`.
+/// `progress`. The result is checked before it is returned (every triangle
+/// det > 0 exactly, every half-edge with one twin); where the two maps nearly
+/// coincide at a scale their own thinnest faces make unresolvable in double
+/// precision (faces squeezed to ~1e-12 and a copy turned by ~1e-12) that
+/// check fails and InvalidInputError says so instead of returning a broken mesh.
 MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const MatrixX3d& sphere_b,
                        const MatrixX3i& FB, const OverlayOptions& options = {},
                        Progress* progress = nullptr);

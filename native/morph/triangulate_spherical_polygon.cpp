@@ -2,11 +2,10 @@
 // (morph/triangulate_spherical_polygon.h).
 #include "morph/triangulate_spherical_polygon.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 #include "morph/sphere_predicates.h"
 

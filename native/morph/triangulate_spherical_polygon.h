@@ -8,9 +8,8 @@
 // worst triangle is best shaped, by dynamic programming over the diagonals.
 #pragma once
 
-#include <array>
-
 #include <Eigen/Core>
+#include <array>
 
 namespace paramorph::morph {
 

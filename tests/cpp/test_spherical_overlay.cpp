@@ -9,11 +9,10 @@
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <boost/multiprecision/cpp_int.hpp>
 #pragma GCC diagnostic pop
+#include <Eigen/Geometry>
 #include <cmath>
 #include <random>
 #include <set>
-
-#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "mesh/face_neighbors.h"
@@ -123,7 +122,7 @@ TEST(SpherePredicates, PerturbedSignsMatchAnExactPerturbation) {
     const int first = int(rng() % 3), flip = int(rng() % 2);
     if (trial % 2 == 0) {
       rank[first] = flip;  // one ranked point
-    } else {  // two, in either order of rank
+    } else {               // two, in either order of rank
       rank[first] = flip;
       rank[(first + 1 + rng() % 2) % 3] = 1 - flip;
     }
@@ -159,9 +158,9 @@ TEST(PointLocation, WalkFindsTheFaceHoldingEachPoint) {
     const Index f = locate_on_sphere(X, F, N, false, {p.data(), -1}, start);
     ASSERT_GE(f, 0);
     for (int k = 0; k < 3; ++k)
-      EXPECT_GE(orientation(X.row(F(f, (k + 1) % 3)).data(), X.row(F(f, (k + 2) % 3)).data(),
-                            p.data()),
-                0);
+      EXPECT_GE(
+          orientation(X.row(F(f, (k + 1) % 3)).data(), X.row(F(f, (k + 2) % 3)).data(), p.data()),
+          0);
     start = (start + 97) % Index(F.rows());
   }
   // A vertex of the mesh itself, perturbed as a vertex of B: one face only.

@@ -92,6 +92,9 @@ def check_chains(r, X, F, source_face, vertex_of, name):
 
 def check_merged(r, XA, FA, XB, FB, tol=TOL):
     M, K = len(r.V), len(r.F)
+    # The tolerance used: the one asked for unless a map has thinner faces.
+    assert 1e-15 <= r.stats.merge_tolerance <= tol
+    tol = r.stats.merge_tolerance
     # How far merging moved a vertex off its input points and arcs: the
     # tolerance, or a few where a turned-over tiny cell was repaired.
     assert r.stats.max_merge_distance <= 16 * tol
@@ -264,7 +267,31 @@ def test_merge_tolerance_decides_what_is_one_point():
     assert (apart.vertex_kind == 2).sum() == 0
     together = pm.overlay(XA, FA, XB, FA, merge_tolerance=1e-6)
     check_merged(together, XA, FA, XB, FA, tol=1e-6)
+    assert together.stats.merge_tolerance == 1e-6
     assert (together.vertex_kind == 2).all() and canonical(together.F) == canonical(FA)
+
+
+def test_thin_faces_lower_the_tolerance_and_nothing_breaks():
+    # A conformal map of long tentacles squeezes faces to altitudes of ~1e-12:
+    # merging at 1e-9 would have to join vertices of that map, so the
+    # tolerance drops below its detail, and the overlay stays valid.
+    V, F = meshes.tentacle_sphere(2, tentacles=4, length=4.0)
+    X = sphere_map_of(V, F)
+    XI, FI = meshes.icosphere(3)
+    XI = XI @ rotation(1).T
+    r = pm.overlay(X, F, XI, FI)
+    assert r.stats.merge_tolerance < 1e-11
+    check_merged(r, X, F, XI, FI)
+    # The same map against itself turned by about its own detail cannot be
+    # resolved in double precision: a valid result or an error, never a
+    # broken mesh.
+    XB = X @ rotation(2, 1e-12).T
+    try:
+        r = pm.overlay(X, F, XB, F)
+    except pm.InvalidInputError as error:
+        assert "nearly coincide" in str(error)
+    else:
+        check_merged(r, X, F, XB, F)
 
 
 # --- input checks -------------------------------------------------------------------
