@@ -141,11 +141,27 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     return obj
 
 
+def build_morph_pair(voxel_size=0.08, subdivisions=4):
+    """The morph sample: a closed Suzanne (source) and a blob (target) of
+    unrelated triangulations, side by side; select Suzanne, then the blob,
+    and run Morph To."""
+    source = build_suzanne_closed(voxel_size=voxel_size)
+    target = build_blob(subdivisions=subdivisions)
+    source.location = (-1.6, 0.0, 0.0)
+    target.location = (1.6, 0.0, 0.0)
+    view_layer = bpy.context.view_layer
+    for obj in view_layer.objects:
+        obj.select_set(obj in (source, target))
+    view_layer.objects.active = target
+    return source, target
+
+
 BUILDERS = {
     "suzanne_closed": build_suzanne_closed,
     "octopus": build_octopus,
     "cad_part": build_cad_part,
     "pinned_disc": build_pinned_disc,
+    "morph_pair": build_morph_pair,
 }
 
 

@@ -6,7 +6,8 @@
 # (octopus), Detect Feature Regions (CAD part). Writes OUT_DIR/demo.blend and
 # OUT_DIR/demo.png (Workbench render, regions coloured from their attribute),
 # then runs the batch CLI once: OUT_DIR/octopus_sphere.obj, the octopus with
-# its "Sphere" UVs.   Usage: scripts/demo.sh [OUT_DIR]   (default: out)
+# its "Sphere" UVs; then the morph demo (scripts/demo_morph.py) and a batch
+# morph.   Usage: scripts/demo.sh [OUT_DIR]   (default: out)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
@@ -20,3 +21,12 @@ blender -b --factory-startup --python-exit-code 1 --python scripts/demo_blender.
 blender -b --factory-startup --python-exit-code 1 \
   --python-expr "import sys; sys.path.insert(0, '$(realpath "$PARAMORPH_BUILD_DIR")/python')" \
   --python addon/paramorph/cli.py -- sphere "$out/demo.blend" "$out/octopus_sphere.obj" --object Octopus
+
+# The morph demo: Suzanne into a blob (Preview Matches, Morph To), saved to
+# $out/morph.blend with frames rendered to $out/morph_####.png; then the same
+# through the batch CLI, from the demo's objects: $out/octopus_to_blob.blend.
+blender -b --factory-startup --python-exit-code 1 --python scripts/demo_morph.py -- --out "$out"
+blender -b --factory-startup --python-exit-code 1 \
+  --python-expr "import sys; sys.path.insert(0, '$(realpath "$PARAMORPH_BUILD_DIR")/python')" \
+  --python addon/paramorph/cli.py -- morph "$out/demo.blend" "$out/morph.blend" \
+  --source-object Octopus --target-object Blob --frames 24 -o "$out/octopus_to_blob.blend"

@@ -131,12 +131,14 @@ def lay_out(objects, size=3.0, gap=1.0):
     bpy.context.view_layer.update()
 
 
-def add_camera(objects, aspect, direction=(0.3, -1.0, 0.65), margin=1.08):
-    """An orthographic camera looking along -direction that frames every object."""
+def add_camera(objects, aspect, direction=(0.3, -1.0, 0.65), margin=1.08, corners=None):
+    """An orthographic camera looking along -direction that frames every object
+    (or the given world-space points)."""
     d = Vector(direction).normalized()
     rotation = (-d).to_track_quat("-Z", "Y").to_matrix()
     right, up = np.array(rotation.col[0]), np.array(rotation.col[1])
-    corners = np.vstack([world_corners(o) for o in objects])
+    if corners is None:
+        corners = np.vstack([world_corners(o) for o in objects])
     r, u, depth = corners @ right, corners @ up, corners @ np.array(d)
     width, height = np.ptp(r), np.ptp(u)
     center = 0.5 * (r.min() + r.max()) * right + 0.5 * (u.min() + u.max()) * up
@@ -213,4 +215,5 @@ def main():
     print(f"demo: wrote {png} ({args.resolution[0]}x{args.resolution[1]}, Workbench)", flush=True)
 
 
-main()
+if __name__ == "__main__":
+    main()

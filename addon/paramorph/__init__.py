@@ -8,13 +8,13 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "3D View > Sidebar > Paramorph",
-    "description": "Fold-free sphere maps and parameterizations (native core)",
+    "description": "Fold-free sphere maps, parameterizations, segmentation and feature-based morphing (native core)",
     "category": "Mesh",
 }
 
 
 _CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
-                  "panels", "overlay")
+                  "ops_morph", "panels", "overlay")
 
 
 def _modules():
@@ -28,6 +28,8 @@ def _menu_entries(self, context):
     layout.operator("paramorph.sphere_map")
     layout.operator("paramorph.segment_extremities")
     layout.operator("paramorph.detect_feature_regions")
+    layout.operator("paramorph.preview_matches")
+    layout.operator("paramorph.morph_to")
 
 
 def register():

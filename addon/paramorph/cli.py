@@ -9,6 +9,14 @@ would in the UI, and writes the result.
                    [--normal-angle DEG] [--concavity-threshold C] [--spacing S]
     common: [--object NAME ...] [--backend auto|cpu|opencl]
 
+    blender -b --factory-startup --python <addons>/paramorph/cli.py -- morph A B -o OUT.blend
+                   [--frames N] [--start F] [--in-betweens K] [--linear] [--no-features]
+                   [--source-object NAME] [--target-object NAME] [--backend ...]
+
+morph builds the object "<source> to <target>" on the merged topology of A's
+and B's meshes with shape keys from A's shape to B's, keyframed over N frames
+from frame F (the scene's frame range is set to it), and saves the .blend.
+
 IN is a .blend, .obj, .ply or .stl file; OUT a .blend, .obj or .ply file
 (.obj and .ply keep the UVs; regions and shape keys only survive in .blend).
 Every mesh object of IN is processed unless --object names some. An error
@@ -92,14 +100,33 @@ def build_parser():
                          help="features: pocket depth, share of the bounding-box diagonal")
     segment.add_argument("--spacing", type=float,
                          help="features: feature point spacing, share of the bounding-box diagonal")
-    return parser, {"sphere": sphere, "unwrap": unwrap, "segment": segment}
+
+    morph = commands.add_parser("morph", help="morph A's mesh into B's: a new object with shape keys, "
+                                              "keyframed (writes a .blend)")
+    morph.add_argument("source", metavar="A", help="source file: " + ", ".join(INPUTS))
+    morph.add_argument("target", metavar="B", help="target file: " + ", ".join(INPUTS))
+    morph.add_argument("-o", "--output", required=True, metavar="OUT", help="output .blend file")
+    morph.add_argument("--frames", type=int, default=48, metavar="N", help="length of the morph (default 48)")
+    morph.add_argument("--start", type=int, default=1, metavar="F", help="first frame (default 1)")
+    morph.add_argument("--in-betweens", type=int, default=0, metavar="K",
+                       help="shape keys between source and target (default 0)")
+    morph.add_argument("--linear", action="store_true", help="constant speed instead of eased")
+    morph.add_argument("--no-features", dest="features", action="store_false",
+                       help="no automatic feature matching (correspondence by direction from the centre)")
+    morph.add_argument("--source-object", metavar="NAME", help="mesh object of A (when A has several)")
+    morph.add_argument("--target-object", metavar="NAME", help="mesh object of B (when B has several)")
+    morph.add_argument("--backend", choices=("auto", "cpu", "opencl"),
+                       help="compute backend (sets the add-on preference; default: auto)")
+    return parser, {"sphere": sphere, "unwrap": unwrap, "segment": segment, "morph": morph}
 
 
 def parse_args(argv):
     parser, subparsers = build_parser()
     args = parser.parse_args(argv)
     parser = subparsers[args.command]  # later errors show the command's usage
-    for label, path, allowed in (("IN", args.input, INPUTS), ("OUT", args.output, OUTPUTS)):
+    files = ((("A", args.source, INPUTS), ("B", args.target, INPUTS), ("OUT", args.output, (".blend",)))
+             if args.command == "morph" else (("IN", args.input, INPUTS), ("OUT", args.output, OUTPUTS)))
+    for label, path, allowed in files:
         if os.path.splitext(path)[1].lower() not in allowed:
             parser.error(f"{label} must end in {', '.join(allowed)}, not {path!r}")
     if args.command == "segment":
@@ -109,6 +136,8 @@ def parse_args(argv):
             for name in names:
                 if args.mode != mode and getattr(args, name) is not None:
                     parser.error(f"--{name.replace('_', '-')} applies to --mode {mode}")
+    if args.command == "morph" and (args.frames < 2 or args.in_betweens < 0):
+        parser.error("--frames must be at least 2 and --in-betweens at least 0")
     args.parser = parser
     return args
 
@@ -311,9 +340,79 @@ def save(path, objects, command):
     raise CliError(f"this Blender has no {ext} exporter")
 
 
+def _added_mesh_object(path, wanted, label):
+    """Adds the mesh objects of a .blend (appended; only `wanted` when given) or of
+    a mesh file (imported) to the scene; returns the one (or the one named `wanted`)."""
+    ext = os.path.splitext(path)[1].lower()
+    if ext == ".blend":
+        with bpy.data.libraries.load(path, link=False) as (data_from, data_to):
+            names = list(data_from.objects)
+            data_to.objects = [wanted] if wanted in names else ([] if wanted else names)
+        added = [o for o in data_to.objects if o is not None]
+        for obj in added:
+            bpy.context.scene.collection.objects.link(obj)
+    else:
+        before = set(bpy.context.scene.objects)
+        for module, name in IMPORTERS[ext]:
+            op = find_operator(module, name)
+            if op is not None:
+                call_operator(op, filepath=path)
+                break
+        else:
+            raise CliError(f"this Blender has no {ext} importer")
+        added = [o for o in bpy.context.scene.objects if o not in before]
+    meshes = sorted((o for o in added if o.type == "MESH"), key=lambda o: o.name)
+    if wanted is not None:
+        # An object renamed on arrival ("Name.001": the scene had one) still counts.
+        chosen = [o for o in meshes if o.name == wanted or o.name.rsplit(".", 1)[0] == wanted]
+        if not chosen:
+            raise CliError(f"{label} has no mesh object named {wanted!r}")
+        return chosen[0]
+    if len(meshes) != 1:
+        flag = "--source-object" if label == "A" else "--target-object"
+        raise CliError(f"{label} has {len(meshes)} mesh objects ({', '.join(o.name for o in meshes) or 'none'}): "
+                       f"name one with {flag}")
+    return meshes[0]
+
+
+def morph_main(args):
+    name = "paramorph morph"
+    try:
+        for label, path in (("A", args.source), ("B", args.target)):
+            if not os.path.isfile(path):
+                raise CliError(f"{label}: {path}: no such file")
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        enable_addon(args.backend)
+        source, target = (_added_mesh_object(os.path.abspath(path), wanted, label)
+                          for label, path, wanted in (("A", args.source, args.source_object),
+                                                      ("B", args.target, args.target_object)))
+        activate(target, [source, target])
+        scene = bpy.context.scene
+        scene.frame_start, scene.frame_end = args.start, args.start + args.frames - 1
+        call_operator(bpy.ops.paramorph.morph_to, frame_start=scene.frame_start, frame_end=scene.frame_end,
+                      in_betweens=args.in_betweens, easing="LINEAR" if args.linear else "EASE",
+                      use_features=args.features, use_preview=False)
+        result = bpy.context.view_layer.objects.active
+        keys = len(result.data.shape_keys.key_blocks) - 1
+        print(f"{name}: {result.name}: {len(result.data.vertices)} vertices, {len(result.data.polygons)} faces, "
+              f"{keys} shape key{'' if keys == 1 else 's'}, frames {scene.frame_start}-{scene.frame_end}",
+              flush=True)
+        out = os.path.abspath(args.output)
+        if os.path.dirname(out):
+            os.makedirs(os.path.dirname(out), exist_ok=True)
+        bpy.ops.wm.save_as_mainfile(filepath=out, check_existing=False)
+    except CliError as error:
+        print(f"{name}: error: {error}", file=sys.stderr, flush=True)
+        return 1
+    print(f"{name}: wrote {out}", flush=True)
+    return 0
+
+
 def main(argv):
     """Runs one command; returns the exit status (usage errors exit 2 through argparse)."""
     args = parse_args(argv)
+    if args.command == "morph":
+        return morph_main(args)
     name = f"paramorph {args.command}"
     try:
         if not os.path.isfile(args.input):

@@ -37,12 +37,16 @@ class NativeOperator:
 
     def _finish(self, context, job, state):
         if job.error is not None:
-            arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
             level = {"WARNING"} if isinstance(job.error, native.Cancelled) else {"ERROR"}
-            self.report(level, messages.describe(job.error, *arrays))
+            self.report(level, self.describe_error(job.error, state))
             return {"CANCELLED"}
         self.report({"INFO"}, self.finish(context, job.result, state))
         return {"FINISHED"}
+
+    def describe_error(self, error, state):
+        """The report for a failed native call (state["arrays"]: the mesh sent)."""
+        arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
+        return messages.describe(error, *arrays)
 
     def execute(self, context):
         prepared = self._prepare_or_report(context)

@@ -1,7 +1,8 @@
 """Viewport overlay: the active mesh's regions as translucent colours,
 region borders as lines and feature points as dots, drawn by a `gpu` draw
 handler from the "paramorph_region" and "paramorph_feature_point"
-attributes. Shader names are the plain built-ins that exist from Blender 3.4
+attributes; while a match preview is on (Preview Matches), the regions of
+its two objects and their feature pairs. Shader names are the plain built-ins that exist from Blender 3.4
 to 5.x (no bgl, no 3D_ prefixed names)."""
 import bpy
 import gpu
@@ -87,14 +88,13 @@ def _batches(obj):
     return shader, faces, line_shader, borders, points
 
 
-def draw():
-    context = bpy.context
-    scene = context.scene
-    if scene is None or not getattr(scene, "paramorph", None) or not scene.paramorph.show_overlay:
-        return
-    obj = context.active_object
-    if obj is None or obj.type != "MESH" or obj.mode == "EDIT" or obj.paramorph_regions == 0:
-        return
+def tag_redraw(context):
+    for area in context.screen.areas if context.screen else ():
+        if area.type == "VIEW_3D":
+            area.tag_redraw()
+
+
+def _draw_regions(obj):
     cached = _cache.get(obj.name)
     if cached is None or cached[0] != _key(obj):
         cached = (_key(obj), _batches(obj))
@@ -102,8 +102,6 @@ def draw():
     if cached[1] is None:
         return
     shader, faces, line_shader, borders, points = cached[1]
-    gpu.state.blend_set("ALPHA")
-    gpu.state.depth_test_set("LESS_EQUAL")
     gpu.matrix.push()
     gpu.matrix.multiply_matrix(obj.matrix_world)
     shader.bind()
@@ -120,6 +118,64 @@ def draw():
         points.draw(shader)
         gpu.state.point_size_set(1.0)
     gpu.matrix.pop()
+
+
+def _world_points(obj, vertices):
+    """World positions of a few vertices (a pair list, not the whole mesh)."""
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    co = np.array([obj.data.vertices[i].co for i in vertices], dtype=np.float64).reshape(-1, 3)
+    return (co @ matrix[:3, :3].T + matrix[:3, 3]).astype(np.float32)
+
+
+def _draw_matches(matches):
+    """The previewed pairs: a dot on each object, the two joined by a line, one
+    colour per pair; pins white and larger."""
+    source, target = matches.source, matches.target
+    pairs = [(p.vertex_a, p.vertex_b, p.pin) for p in matches.pairs
+             if p.vertex_a < len(source.data.vertices) and p.vertex_b < len(target.data.vertices)]
+    if not pairs:
+        return
+    a = _world_points(source, [p[0] for p in pairs])
+    b = _world_points(target, [p[1] for p in pairs])
+    pin = np.array([p[2] for p in pairs])
+    colors = regions.region_colors(len(pairs))
+    colors[pin] = (1.0, 1.0, 1.0, 1.0)
+    shader = gpu.shader.from_builtin("SMOOTH_COLOR")
+    ends = np.empty((2 * len(pairs), 3), dtype=np.float32)
+    ends[0::2], ends[1::2] = a, b
+    line_colors = np.repeat(colors, 2, axis=0)
+    line_colors[:, 3] = 0.6
+    gpu.state.depth_test_set("NONE")  # pairs stay visible through the surfaces
+    shader.bind()
+    batch_for_shader(shader, "LINES", {"pos": ends, "color": line_colors}).draw(shader)
+    for size, chosen in ((9.0, ~pin), (14.0, pin)):
+        if chosen.any():
+            gpu.state.point_size_set(size)
+            both = np.vstack([a[chosen], b[chosen]])
+            batch_for_shader(shader, "POINTS", {"pos": both, "color": np.vstack([colors[chosen]] * 2)}).draw(shader)
+    gpu.state.point_size_set(1.0)
+
+
+def draw():
+    context = bpy.context
+    scene = context.scene
+    if scene is None or not getattr(scene, "paramorph", None) or not scene.paramorph.show_overlay:
+        return
+    shown = []
+    matches = getattr(scene, "paramorph_matches", None)
+    previewing = matches is not None and matches.source is not None and matches.target is not None
+    if previewing:
+        shown += [matches.source, matches.target]
+    obj = context.active_object
+    if obj is not None and obj not in shown:
+        shown.append(obj)
+    gpu.state.blend_set("ALPHA")
+    gpu.state.depth_test_set("LESS_EQUAL")
+    for obj in shown:
+        if obj.type == "MESH" and obj.mode != "EDIT" and obj.paramorph_regions > 0 and obj.visible_get():
+            _draw_regions(obj)
+    if previewing and len(matches.pairs):
+        _draw_matches(matches)
     gpu.state.depth_test_set("NONE")
     gpu.state.blend_set("NONE")
 

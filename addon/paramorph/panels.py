@@ -57,6 +57,31 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                 op.name = item.object_name
                 row.label(text=f"{item.distance:.3f}" if item.distance >= 0 else "n/a",
                           icon="NONE" if item.distance >= 0 else "ERROR")
+        self.draw_morph(context, layout)
+
+    @staticmethod
+    def draw_morph(context, layout):
+        col = layout.column(align=True)
+        col.label(text="Morph (select source, then target)")
+        col.operator("paramorph.preview_matches")
+        matches = context.scene.paramorph_matches
+        if matches.source is not None and matches.target is not None:
+            col.label(text=f"{matches.source.name} → {matches.target.name}: {len(matches.pairs)} pairs")
+            col.template_list("PARAMORPH_UL_match_pairs", "", matches, "pairs", matches, "pair_index", rows=4)
+            row = col.row(align=True)
+            row.operator("paramorph.add_pin", icon="PINNED")
+            row.operator("paramorph.remove_pair", text="Remove", icon="REMOVE")
+            row.operator("paramorph.clear_matches", text="", icon="X")
+        col.operator("paramorph.morph_to")
+
+
+class PARAMORPH_UL_match_pairs(bpy.types.UIList):
+    """One previewed pair per row: source vertex, target vertex, score; pins marked."""
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
+        row = layout.row(align=True)
+        row.label(text=f"{item.vertex_a} ↔ {item.vertex_b}", icon="PINNED" if item.pin else "DOT")
+        row.label(text="pin" if item.pin else f"{item.score:.3f}")
 
 
 class PARAMORPH_OT_select_object(bpy.types.Operator):
@@ -91,4 +116,4 @@ class PARAMORPH_OT_cancel_jobs(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (PARAMORPH_OT_select_object, PARAMORPH_OT_cancel_jobs, PARAMORPH_PT_main)
+classes = (PARAMORPH_OT_select_object, PARAMORPH_OT_cancel_jobs, PARAMORPH_UL_match_pairs, PARAMORPH_PT_main)

@@ -266,3 +266,40 @@ def test_option_out_of_range_and_unknown_object(cli, tmp_path):
     assert proc.returncode == 1, output(proc)
     assert "no object named 'Nope' (mesh objects: Blob)" in proc.stderr
     assert not (tmp_path / "x.blend").exists()
+
+
+def test_morph_two_obj_files_into_an_animated_blend(cli, tmp_path):
+    make_samples.build_blob(subdivisions=3)
+    blob_obj = tmp_path / "blob.obj"
+    export(blob_obj)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    make_samples.build_octopus(subdivisions=3, limbs=4)
+    octopus_obj = tmp_path / "octopus.obj"
+    export(octopus_obj)
+    out = tmp_path / "out" / "morph.blend"
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, octopus_obj, "--frames", "12", "--start", "5",
+                   "--in-betweens", "1", "-o", out)
+    assert proc.returncode == 0, output(proc)
+    assert "paramorph morph: Blob to Octopus:" in proc.stdout and f"wrote {out}" in proc.stdout
+
+    open_output(out)
+    scene = bpy.context.scene
+    assert (scene.frame_start, scene.frame_end) == (5, 16)
+    morph = bpy.data.objects["Blob to Octopus"]
+    keys = morph.data.shape_keys
+    assert [k.name for k in keys.key_blocks] == ["Basis", "Octopus 50%", "Octopus"]
+    scene.frame_set(16)
+    assert keys.key_blocks["Octopus"].value == pytest.approx(1.0)
+    scene.frame_set(5)
+    assert keys.key_blocks["Octopus"].value == pytest.approx(0.0)
+
+
+def test_morph_usage_and_input_errors(cli, tmp_path):
+    make_samples.build_blob(subdivisions=2)
+    blob_obj = tmp_path / "blob.obj"
+    export(blob_obj)
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "-o", tmp_path / "out.obj")
+    assert proc.returncode == 2 and "OUT must end in .blend" in proc.stderr, output(proc)
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, tmp_path / "missing.obj", "-o", tmp_path / "out.blend")
+    assert proc.returncode == 1 and "B: " in proc.stderr and "no such file" in proc.stderr, output(proc)
+    assert not (tmp_path / "out.blend").exists()

@@ -1,0 +1,138 @@
+"""The morph as a Blender object (thesis 4.4): a new mesh on the merged
+topology whose Basis is the source and whose shape keys go to the target
+(optional in-between keys on the way), with the source's materials, smooth
+shading, UV layers and colour attributes carried over, and the key values keyframed over a
+frame range. numpy and foreach_set only; no Python loops over elements."""
+import bpy
+import numpy as np
+
+from . import bridge
+
+
+def _build_mesh(name, positions, faces):
+    mesh = bpy.data.meshes.new(name)
+    n, k = len(positions), len(faces)
+    mesh.vertices.add(n)
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(positions, dtype=np.float32).ravel())
+    mesh.loops.add(3 * k)
+    mesh.loops.foreach_set("vertex_index", np.ascontiguousarray(faces, dtype=np.int32).ravel())
+    mesh.polygons.add(k)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * k, 3, dtype=np.int32))
+    if not bpy.types.MeshPolygon.bl_rna.properties["loop_total"].is_readonly:  # read-only from 3.6
+        mesh.polygons.foreach_set("loop_total", np.full(k, 3, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    mesh.validate()
+    return mesh
+
+
+def _polygon_values(mesh, name, dtype):
+    values = np.empty(len(mesh.polygons), dtype=dtype)
+    mesh.polygons.foreach_get(name, values)
+    return values
+
+
+def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops):
+    """Materials, smooth shading and every UV layer of the source, through
+    the merged faces' source triangles and corner barycentrics."""
+    source_poly = tri_poly[np.asarray(result.source_face_a)]
+    for material in source_mesh.materials:
+        mesh.materials.append(material)
+    if len(source_mesh.materials):
+        mesh.polygons.foreach_set("material_index",
+                                  _polygon_values(source_mesh, "material_index", np.int32)[source_poly])
+    smooth = _polygon_values(source_mesh, "use_smooth", bool)[source_poly]
+    mesh.polygons.foreach_set("use_smooth", smooth)
+    for layer in source_mesh.uv_layers:
+        uv = np.empty(2 * len(source_mesh.loops), dtype=np.float32)
+        if hasattr(layer, "uv"):
+            layer.uv.foreach_get("vector", uv)
+        else:
+            layer.data.foreach_get("uv", uv)
+        corners = uv.reshape(-1, 2)[tri_loops.ravel()]  # rows 3t + c
+        carried = np.asarray(result.carry(0, corners.astype(np.float64)))
+        bridge.write_uv_layer(mesh, carried, layer.name)
+    if source_mesh.uv_layers.active is not None:
+        mesh.uv_layers.active = mesh.uv_layers[source_mesh.uv_layers.active.name]
+    _carry_colors(source_mesh, mesh, result, tri_loops)
+
+
+def _carry_colors(source_mesh, mesh, result, tri_loops):
+    """Colour attributes of the source (per corner or per vertex) as per-corner
+    colours of the merged faces; the active one stays active."""
+    if not hasattr(source_mesh, "color_attributes"):  # 3.2+
+        return
+    loop_vertex = np.empty(len(source_mesh.loops), dtype=np.int32)
+    source_mesh.loops.foreach_get("vertex_index", loop_vertex)
+    active = source_mesh.color_attributes.active_color
+    for attribute in source_mesh.color_attributes:
+        if attribute.domain not in ("CORNER", "POINT"):
+            continue
+        values = np.empty(4 * len(attribute.data), dtype=np.float32)
+        attribute.data.foreach_get("color", values)
+        values = values.reshape(-1, 4)
+        per_loop = values if attribute.domain == "CORNER" else values[loop_vertex]
+        carried = np.asarray(result.carry(0, per_loop[tri_loops.ravel()].astype(np.float64)))
+        out = mesh.color_attributes.new(attribute.name, "FLOAT_COLOR", "CORNER")
+        out.data.foreach_set("color", np.ascontiguousarray(carried, dtype=np.float32).ravel())
+        if active is not None and attribute.name == active.name:
+            mesh.color_attributes.active_color = out
+
+
+def _fcurves(key):
+    """The shape-key datablock's F-curves, before and after slotted actions (4.4+)."""
+    action = key.animation_data.action
+    if hasattr(action, "fcurves") and not hasattr(key.animation_data, "action_slot"):
+        return action.fcurves
+    from bpy_extras import anim_utils
+    return anim_utils.action_get_channelbag_for_slot(action, key.animation_data.action_slot).fcurves
+
+
+def key_times(in_betweens):
+    """Morph times of the keys after Basis: the in-betweens, then the target (1)."""
+    return [(i + 1) / (in_betweens + 1) for i in range(in_betweens + 1)]
+
+
+def _animate(obj, keys, frame_start, frame_end, easing):
+    """Each key at full weight at its time and at 0 at its neighbours' times
+    (tent curves), so the shape passes through every key in order; with
+    `easing` the segments start and end slowly (Bezier), else linearly."""
+    times = [0.0] + key_times(len(keys) - 1)
+    frames = [frame_start + t * (frame_end - frame_start) for t in times]
+    for i, key in enumerate(keys, start=1):
+        key.value = 0.0
+        for j in (i - 1, i, i + 1):
+            if j < len(frames):
+                key.value = 1.0 if j == i else 0.0
+                key.keyframe_insert("value", frame=frames[j])
+        key.value = 0.0
+    interpolation = "BEZIER" if easing else "LINEAR"
+    for curve in _fcurves(obj.data.shape_keys):
+        for point in curve.keyframe_points:
+            point.interpolation = interpolation
+            if easing:
+                point.handle_left_type = point.handle_right_type = "AUTO_CLAMPED"
+        curve.update()
+
+
+def build(context, name, source, result, target_positions, *, tri_poly, tri_loops,
+          target_name="Target", in_betweens=0, frame_start=1, frame_end=48, easing=True):
+    """A new object `name` on the merged topology of `result` (paramorph_native.Morph),
+    placed like `source` and linked to its collections: Basis = result.source,
+    keys "<target_name> 25%"... (in-betweens) and `target_name` = target_positions,
+    keyframed from frame_start to frame_end. Returns the object."""
+    source_positions = np.asarray(result.source)
+    mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
+    _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
+    obj = bpy.data.objects.new(name, mesh)
+    for collection in source.users_collection or (context.collection,):
+        collection.objects.link(obj)
+    obj.matrix_world = source.matrix_world.copy()
+
+    obj.shape_key_add(name="Basis", from_mix=False)
+    keys = []
+    for t in key_times(in_betweens):
+        key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
+        shape = (1.0 - t) * source_positions + t * target_positions
+        keys.append(bridge.add_shape_key(obj, shape, key_name))
+    _animate(obj, keys, frame_start, frame_end, easing)
+    return obj
