@@ -10,6 +10,7 @@ import numpy as np
 from . import bridge, messages, morph_object, overlay, regions, sphere_cache
 from .native import native
 from .native_operator import NativeOperator, UserError
+from .ops_segment import FeatureRegionSettings
 
 
 def two_objects(context):
@@ -56,34 +57,18 @@ class _TwoMeshes(NativeOperator):
         return messages.describe(error)
 
 
-class PARAMORPH_OT_preview_matches(_TwoMeshes, bpy.types.Operator):
+class PARAMORPH_OT_preview_matches(_TwoMeshes, FeatureRegionSettings, bpy.types.Operator):
     """Match the feature regions and feature points of the selected mesh (source) and the
     active mesh (target), and show the pairs before morphing"""
     bl_idname = "paramorph.preview_matches"
     bl_label = "Preview Matches"
     bl_options = {"REGISTER", "UNDO"}
 
-    normal_angle: bpy.props.FloatProperty(
-        name="Crease Angle", default=0.6981317, min=0.0175, max=3.14159, subtype="ANGLE",
-        description="Edges sharper than this separate feature regions")
-    concavity_threshold: bpy.props.FloatProperty(
-        name="Pocket Depth", default=0.02, min=0.001, max=0.5, subtype="FACTOR",
-        description="Depth below the convex hull (share of the bounding-box diagonal) "
-                    "that makes a pocket its own region")
-    min_area: bpy.props.FloatProperty(
-        name="Minimum Area", default=0.005, min=0.0, max=0.5, subtype="FACTOR",
-        description="Regions under this share of the surface are merged into a neighbour")
-    spacing: bpy.props.FloatProperty(
-        name="Point Spacing", default=0.05, min=0.0, max=1.0, subtype="FACTOR",
-        description="Closest two feature points of one kind in a region (share of the diagonal)")
-
     def prepare(self, context):
         source, target = two_objects(context)
         VA, FA, tri_poly_a, _ = _arrays(context, source)
         VB, FB, tri_poly_b, _ = _arrays(context, target)
-        options = {"normal_angle": float(np.degrees(self.normal_angle)),
-                   "concavity_threshold": self.concavity_threshold,
-                   "min_area": self.min_area, "spacing": self.spacing}
+        options = self.feature_options()
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": (tri_poly_a, tri_poly_b)}
         return native.match_features, (VA, FA, VB, FB), options, state

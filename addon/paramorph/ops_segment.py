@@ -74,13 +74,9 @@ def _feature_regions_and_points(V, F, *, progress, spacing, **options):
     return segmentation, points
 
 
-class PARAMORPH_OT_detect_feature_regions(_Segmenter, bpy.types.Operator):
-    """Split the active mesh into feature regions by creases and concavity, and mark
-    feature points (pocket bottoms, tips)"""
-    bl_idname = "paramorph.detect_feature_regions"
-    bl_label = "Detect Feature Regions"
-    bl_options = {"REGISTER", "UNDO"}
-
+class FeatureRegionSettings:
+    """The feature-region options (thesis 4.5) shared by Detect Feature Regions
+    and Preview Matches; feature_options() gives them as the module's keywords."""
     normal_angle: bpy.props.FloatProperty(
         name="Crease Angle", default=0.6981317, min=0.0175, max=3.14159, subtype="ANGLE",
         description="Edges sharper than this separate regions")
@@ -96,13 +92,25 @@ class PARAMORPH_OT_detect_feature_regions(_Segmenter, bpy.types.Operator):
         description="Closest two feature points of one kind in a region "
                     "(share of the bounding-box diagonal)")
 
+    def feature_options(self):
+        return {"normal_angle": float(np.degrees(self.normal_angle)),
+                "concavity_threshold": self.concavity_threshold,
+                "min_area": self.min_area, "spacing": self.spacing}
+
+
+class PARAMORPH_OT_detect_feature_regions(_Segmenter, FeatureRegionSettings, bpy.types.Operator):
+    """Split the active mesh into feature regions by creases and concavity, and mark
+    feature points (pocket bottoms, tips)"""
+    bl_idname = "paramorph.detect_feature_regions"
+    bl_label = "Detect Feature Regions"
+    bl_options = {"REGISTER", "UNDO"}
+
+
     def native_call(self):
         return _feature_regions_and_points
 
     def native_options(self, V, F):
-        return {"normal_angle": np.degrees(self.normal_angle),
-                "concavity_threshold": self.concavity_threshold,
-                "min_area": self.min_area, "spacing": self.spacing}
+        return self.feature_options()
 
     def summary(self, result, count):
         return f"Detect Feature Regions: {count} regions, {len(result[1].vertices)} feature points"
