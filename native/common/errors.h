@@ -5,6 +5,7 @@
 // callers can catch the whole family. Messages name the offending elements.
 #pragma once
 
+#include <exception>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -53,6 +54,37 @@ std::string concat(const Parts&... parts) {
   return out.str();
 }
 }  // namespace detail
+
+/// Runs fn(); a mesh error it raises is raised again with "mesh <name>: " in
+/// front and the same type, so a caller of a two-mesh entry point (matching,
+/// morphing) learns which input to fix.
+template <typename Fn>
+auto for_mesh(const char* name, Fn&& fn) {
+  const auto prefixed = [name](const std::exception& e) {
+    return std::string("mesh ") + name + ": " + e.what();
+  };
+  try {
+    return fn();
+  } catch (const NotClosedError& e) {
+    throw NotClosedError(prefixed(e));
+  } catch (const NotOpenError& e) {
+    throw NotOpenError(prefixed(e));
+  } catch (const NotGenusZeroError& e) {
+    throw NotGenusZeroError(prefixed(e));
+  } catch (const DisconnectedError& e) {
+    throw DisconnectedError(prefixed(e));
+  } catch (const NonManifoldError& e) {
+    throw NonManifoldError(prefixed(e));
+  } catch (const DegenerateFaceError& e) {
+    throw DegenerateFaceError(prefixed(e));
+  } catch (const InvalidInputError& e) {
+    throw InvalidInputError(prefixed(e));
+  } catch (const ConstraintError& e) {
+    throw ConstraintError(prefixed(e));
+  } catch (const MeshError& e) {
+    throw MeshError(prefixed(e));
+  }
+}
 
 }  // namespace paramorph
 

@@ -26,35 +26,6 @@ constexpr std::size_t kRefined = 8;
 /// Refinement rounds at most (each: fit R to the pairs, pair again).
 constexpr int kRefineRounds = 20;
 
-/// Re-throws a mesh error with the mesh's name in front, keeping its type.
-template <typename Fn>
-auto for_mesh(const char* name, Fn&& fn) {
-  const auto prefixed = [name](const std::exception& e) {
-    return std::string("mesh ") + name + ": " + e.what();
-  };
-  try {
-    return fn();
-  } catch (const NotClosedError& e) {
-    throw NotClosedError(prefixed(e));
-  } catch (const NotOpenError& e) {
-    throw NotOpenError(prefixed(e));
-  } catch (const NotGenusZeroError& e) {
-    throw NotGenusZeroError(prefixed(e));
-  } catch (const DisconnectedError& e) {
-    throw DisconnectedError(prefixed(e));
-  } catch (const NonManifoldError& e) {
-    throw NonManifoldError(prefixed(e));
-  } catch (const DegenerateFaceError& e) {
-    throw DegenerateFaceError(prefixed(e));
-  } catch (const InvalidInputError& e) {
-    throw InvalidInputError(prefixed(e));
-  } catch (const ConstraintError& e) {
-    throw ConstraintError(prefixed(e));
-  } catch (const MeshError& e) {
-    throw MeshError(prefixed(e));
-  }
-}
-
 /// Everything matching needs to know about one mesh.
 struct Side {
   Segmentation regions;

@@ -15,22 +15,6 @@ namespace paramorph::morph {
 
 namespace {
 
-/// Re-raises the current mesh error with the mesh it is about in front
-/// ("mesh B: ..."), keeping its type, so the caller can tell which of the
-/// two inputs to fix.
-[[noreturn]] void rethrow_about(const char* which) {
-  const auto again = [which](const std::exception& e) { return std::string(which) + ": " + e.what(); };
-  try {
-    throw;
-  } catch (const NotClosedError& e) { throw NotClosedError(again(e));
-  } catch (const NotGenusZeroError& e) { throw NotGenusZeroError(again(e));
-  } catch (const DisconnectedError& e) { throw DisconnectedError(again(e));
-  } catch (const NonManifoldError& e) { throw NonManifoldError(again(e));
-  } catch (const DegenerateFaceError& e) { throw DegenerateFaceError(again(e));
-  } catch (const InvalidInputError& e) { throw InvalidInputError(again(e));
-  }
-}
-
 /// One stage: its own 0..1 progress inside [lo, hi] of the caller's, and
 /// its wall time in `timings`.
 template <typename Work>
@@ -82,14 +66,12 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   // 1. Sphere maps; A's optimized for morphing.
   auto sphere_of = [&](const MatrixX3d& V, const MatrixX3i& F, const std::optional<MatrixX3d>& given,
                        const char* which, double lo, double hi) {
-    try {
-      if (given) return *given;
+    if (given) return *given;
+    return for_mesh(which, [&] {
       return stage(std::string("sphere map ") + which, lo, hi, progress, m.timings, [&](Progress* p) {
         return spherical::sphere_map(V, F, {}, p).positions;
       });
-    } catch (const MeshError&) {
-      rethrow_about(which[0] == 'A' ? "mesh A" : "mesh B");
-    }
+    });
   };
   const MatrixX3d start_a = sphere_of(VA, FA, o.sphere_a, "A", 0.0, 0.08);
   const MatrixX3d start_b = sphere_of(VB, FB, o.sphere_b, "B", 0.08, 0.16);
@@ -97,13 +79,11 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   OptimizeSphereOptions optimize;
   optimize.epsilon = o.epsilon;
   optimize.max_iterations = o.max_iterations;
-  try {
-    m.sphere_a = stage("optimize A", 0.16, 0.45, progress, m.timings, [&](Progress* p) {
+  m.sphere_a = for_mesh("A", [&] {
+    return stage("optimize A", 0.16, 0.45, progress, m.timings, [&](Progress* p) {
       return optimize_sphere_map(VA, FA, start_a, optimize, p).positions;
     });
-  } catch (const MeshError&) {
-    rethrow_about("mesh A");
-  }
+  });
 
   // 2. Pairs: pins, then the automatic (or given) pairs away from them.
   for (const auto& pin : o.pins) {
@@ -149,15 +129,13 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   align.epsilon = o.epsilon;
   align.max_iterations = o.max_iterations;
   if (m.match) align.target = radial_projection(VB, FB) * m.match->rotation.transpose();
-  try {
-    const AlignSphereResult aligned = stage("align B", 0.55, 0.88, progress, m.timings, [&](Progress* p) {
+  const AlignSphereResult aligned = for_mesh("B", [&] {
+    return stage("align B", 0.55, 0.88, progress, m.timings, [&](Progress* p) {
       return align_sphere_map(VB, FB, start_b, paired_b, targets, weights, align, p);
     });
-    m.sphere_b = aligned.positions;
-    m.mean_pair_error = aligned.mean_error;
-  } catch (const MeshError&) {
-    rethrow_about("mesh B");
-  }
+  });
+  m.sphere_b = aligned.positions;
+  m.mean_pair_error = aligned.mean_error;
 
   // 4. Overlay, 5. positions on both meshes.
   m.merged = stage("overlay", 0.88, 0.98, progress, m.timings, [&](Progress* p) {

@@ -5,7 +5,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <array>
+#include <cstdint>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "common/errors.h"
 #include "mesh/types.h"
@@ -61,6 +65,43 @@ inline VectorXd to_vector(const py::handle& obj, const char* name) {
   auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
   VectorXd out(arr.shape(0));
   if (arr.shape(0) > 0) std::copy(data.data(), data.data() + data.size(), out.data());
+  return out;
+}
+
+/// (k,) integer array (None: empty) -> indices, each checked to fit an Index.
+inline std::vector<Index> to_indices(const py::object& obj, const char* name) {
+  if (obj.is_none()) return {};
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr && (arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u') && arr.ndim() == 1,
+             InvalidInputError, name, " must be a 1-D integer array");
+  auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+  std::vector<Index> out(data.size());
+  for (py::ssize_t k = 0; k < data.size(); ++k) {
+    PM_REQUIRE(data.data()[k] >= 0 && data.data()[k] <= std::numeric_limits<Index>::max(),
+               InvalidInputError, name, " index ", data.data()[k], " is out of range");
+    out[k] = Index(data.data()[k]);
+  }
+  return out;
+}
+
+/// (k, 2) integer array -> index pairs, each checked to fit an Index.
+inline std::vector<std::array<Index, 2>> to_index_pairs(const py::handle& obj, const char* name) {
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr, InvalidInputError, name, " must be a numpy array");
+  const auto kind = arr.dtype().kind();
+  PM_REQUIRE(kind == 'i' || kind == 'u', InvalidInputError, name, " must be an integer array, got dtype ",
+             std::string(py::str(arr.dtype())));
+  PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 2, InvalidInputError, name,
+             " must have shape (k, 2), got ", std::string(py::str(arr.attr("shape"))));
+  auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+  std::vector<std::array<Index, 2>> out(std::size_t(arr.shape(0)));
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (int j = 0; j < 2; ++j) {
+      const std::int64_t v = data.data()[2 * k + j];
+      PM_REQUIRE(v >= 0 && v <= std::numeric_limits<Index>::max(), InvalidInputError, name, " has index ",
+                 v, " in row ", k, ", out of range");
+      out[k][j] = Index(v);
+    }
   return out;
 }
 

@@ -1,7 +1,5 @@
 // Morphing (native/morph/): optimize_sphere_map (morph/optimize_sphere_map.h),
 // align_sphere_map (morph/align_sphere_map.h), morph (morph/morph.h).
-#include <cstdint>
-#include <limits>
 
 #include <pybind11/stl.h>
 
@@ -15,27 +13,6 @@
 namespace paramorph::python {
 
 namespace {
-
-/// (k, 2) integer array -> index pairs, each checked to fit an Index.
-std::vector<std::array<Index, 2>> to_index_pairs(const py::handle& obj, const char* name) {
-  py::array arr = py::array::ensure(obj);
-  PM_REQUIRE(arr, InvalidInputError, name, " must be a numpy array");
-  const auto kind = arr.dtype().kind();
-  PM_REQUIRE(kind == 'i' || kind == 'u', InvalidInputError, name, " must be an integer array, got dtype ",
-             std::string(py::str(arr.dtype())));
-  PM_REQUIRE(arr.ndim() == 2 && arr.shape(1) == 2, InvalidInputError, name,
-             " must have shape (k, 2), got ", std::string(py::str(arr.attr("shape"))));
-  auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
-  std::vector<std::array<Index, 2>> out(std::size_t(arr.shape(0)));
-  for (std::size_t k = 0; k < out.size(); ++k)
-    for (int j = 0; j < 2; ++j) {
-      const std::int64_t v = data.data()[2 * k + j];
-      PM_REQUIRE(v >= 0 && v <= std::numeric_limits<Index>::max(), InvalidInputError, name, " has index ",
-                 v, " in row ", k, ", out of range");
-      out[k][j] = Index(v);
-    }
-  return out;
-}
 
 py::array pairs_to_numpy(const std::vector<std::array<Index, 2>>& pairs) {
   py::array_t<Index> out({py::ssize_t(pairs.size()), py::ssize_t(2)});
@@ -133,9 +110,7 @@ void def_align_sphere_map(py::module_& m) {
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
         const MatrixX3d s = to_vertices(sphere, "sphere");
-        const VectorXd index = to_vector(vertices, "vertices");
-        std::vector<Index> paired(std::size_t(index.size()));
-        for (Index i = 0; i < index.size(); ++i) paired[std::size_t(i)] = Index(index[i]);
+        const std::vector<Index> paired = to_indices(vertices, "vertices");
         const MatrixX3d t = to_vertices(targets, "targets");
         const VectorXd w = weights.is_none() ? VectorXd() : to_vector(weights, "weights");
         PythonProgress bridge(std::move(progress));

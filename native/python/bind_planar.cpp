@@ -14,21 +14,6 @@ using planar::PlanarMapResult;
 
 namespace {
 
-std::vector<Index> to_indices(const py::object& obj, const char* name) {
-  if (obj.is_none()) return {};
-  py::array arr = py::array::ensure(obj);
-  PM_REQUIRE(arr && (arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u') && arr.ndim() == 1,
-             InvalidInputError, name, " must be a 1-D integer array");
-  auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
-  std::vector<Index> out(data.size());
-  for (py::ssize_t k = 0; k < data.size(); ++k) {
-    PM_REQUIRE(data.data()[k] >= 0 && data.data()[k] <= std::numeric_limits<Index>::max(),
-               InvalidInputError, name, " index ", data.data()[k], " is out of range");
-    out[k] = Index(data.data()[k]);
-  }
-  return out;
-}
-
 MatrixX2d to_uv(const py::object& obj, const char* name, std::size_t rows) {
   if (obj.is_none()) {
     PM_REQUIRE(rows == 0, InvalidInputError, name, " is required with its indices");
