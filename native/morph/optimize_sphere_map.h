@@ -14,6 +14,9 @@
 // MUMPS) with the exact gradient, Jacobian and Hessian of the Lagrangian,
 // their sparsity built once. An evaluation at a point with a folded face is
 // refused, so Ipopt shortens the step: every accepted iterate is fold-free.
+// Ipopt starts warm from morph/sphere_map_barrier (the same problem with the
+// bounds as a log barrier, followed down a short path of mu by Newton steps
+// on the spheres), where the start allows it.
 #pragma once
 
 #include <optional>
@@ -34,15 +37,17 @@ struct OptimizeSphereOptions {
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
   /// centroid when absent.
   std::optional<MatrixX3d> target;
-  /// #V non-negative weights w_i: maximize sum_i w_i v_i^0 . v_i (all 1 when
-  /// absent); the morph's alignment weighs paired feature points up (4.12).
+  /// #V non-negative per-vertex weights w_i (not all 0): the objective becomes
+  /// sum_i w_i t_i . v_i (thesis (4.12) weighs feature points this way); all 1
+  /// when absent. The pre-rotation to the targets uses them too.
   std::optional<VectorXd> weights;
 };
 
 struct OptimizeSphereResult {
   MatrixX3d positions;        ///< #V by 3 unit vectors, fold-free
-  int iterations = 0;
-  double objective = 0;       ///< sum_i v_i^0 . v_i at the end (n at best)
+  int iterations = 0;         ///< Ipopt's iterations
+  int barrier_steps = 0;      ///< Newton steps of the log-barrier warm start (0: Ipopt alone)
+  double objective = 0;       ///< sum_i w_i v_i^0 . v_i at the end (sum_i w_i at best)
   double start_objective = 0;
   double epsilon = 0;         ///< the absolute bound used
   double min_triple = 0;      ///< smallest face triple product at the end (>= epsilon to Ipopt's tolerance)

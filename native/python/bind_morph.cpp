@@ -29,9 +29,11 @@ void def_optimize_sphere_map(py::module_& m) {
   py::class_<OptimizeSphereResult>(m, "OptimizedSphereMap", "Result of optimize_sphere_map().")
       .def_property_readonly("positions", [](const OptimizeSphereResult& r) { return to_numpy(r.positions); },
                              "(n, 3) float64 unit vectors, fold-free")
-      .def_readonly("iterations", &OptimizeSphereResult::iterations)
+      .def_readonly("iterations", &OptimizeSphereResult::iterations, "Ipopt's iterations")
+      .def_readonly("barrier_steps", &OptimizeSphereResult::barrier_steps,
+                    "Newton steps of the log-barrier warm start (0: Ipopt alone)")
       .def_readonly("objective", &OptimizeSphereResult::objective,
-                    "sum of v_i^0 . v_i at the end (n at best)")
+                    "sum of w_i v_i^0 . v_i at the end (sum of w_i at best)")
       .def_readonly("start_objective", &OptimizeSphereResult::start_objective)
       .def_readonly("epsilon", &OptimizeSphereResult::epsilon, "the absolute triple-product bound used")
       .def_readonly("min_triple", &OptimizeSphereResult::min_triple)
@@ -67,18 +69,19 @@ void def_optimize_sphere_map(py::module_& m) {
       R"doc(Optimized sphere map for morphing (thesis 4.3.3): from a fold-free map
 `sphere` (e.g. sphere_map(V, F).positions), every vertex moves as close as the
 fold constraints allow to its radial projection from the centroid (or to
-`target`), weighted by `weights` ((n,) >= 0, default 1): maximise
-sum w_i v_i^0 . v_i subject to |v_i| = 1 (4.9) and, per face,
-det(v_a, v_b, v_c) >= epsilon x (mean start triple product) (4.10; lowered to
-half the start's smallest when the start is tighter). Ipopt (MUMPS) with exact
-sparse derivatives; every accepted iterate is fold-free.
+`target`): maximise sum w_i v_i^0 . v_i subject to |v_i| = 1 (4.9) and, per
+face, det(v_a, v_b, v_c) >= epsilon x (mean start triple product) (4.10;
+lowered to half the start's smallest when the start is tighter). weights: (n,)
+non-negative per-vertex w_i (all 1 when None; thesis (4.12) weighs feature
+points). Ipopt (MUMPS) with exact sparse derivatives, warm-started from a
+log-barrier Newton path on the spheres; every accepted iterate is fold-free.
 
 V: (n, 3) float64/float32; F: (m, 3) int32/int64, closed genus 0; sphere:
 (n, 3). progress: callable(fraction, stage) -> bool; False raises Cancelled.
-Returns OptimizedSphereMap (positions, iterations, objective, start_objective,
-epsilon, min_triple, flipped, status, seconds). Raises the MeshError
+Returns OptimizedSphereMap (positions, iterations, barrier_steps, objective,
+start_objective, epsilon, min_triple, flipped, status, seconds). Raises the MeshError
 subclasses of a non-closed / non-genus-0 mesh, InvalidInputError for a folded
-or mis-shaped start, Cancelled.)doc");
+or mis-shaped start or bad weights, Cancelled.)doc");
 }
 
 }  // namespace

@@ -1,12 +1,18 @@
 // The optimized sphere map for morphing (morph/optimize_sphere_map, thesis
-// 4.3.3): derivatives against finite differences, fold-free Ipopt results.
+// 4.3.3): derivatives against finite differences (Ipopt's problem and the
+// barrier warm start's energy), fold-free results, per-vertex weights.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
+
+#include <Eigen/Geometry>
 
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
 #include "morph/optimize_sphere_map.h"
+#include "morph/sphere_map_barrier.h"
 #include "morph/sphere_map_nlp.h"
 #include "param/spherical/sphere_map.h"
 #include "test_meshes.h"
@@ -120,4 +126,101 @@ TEST(OptimizeSphereMap, BadInputAndCancel) {
   EXPECT_THROW(optimize_sphere_map(G, FG, MatrixX3d::Zero(G.rows(), 3)), NotClosedError);
   Progress stop([](double, const std::string&) { return false; });
   EXPECT_THROW(optimize_sphere_map(V, F, sphere, {}, &stop), Cancelled);
+}
+
+TEST(SphereMapBarrier, EnergyGradientMatchesFiniteDifferences) {
+  auto [V, F] = test_meshes::lumpy_blob(1);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  const std::vector<double> x = perturbed(sphere, 0.01, 11);
+  const MatrixX3d X = Eigen::Map<const MatrixX3d>(x.data(), V.rows(), 3);
+  const VectorXd det = face_triple_products(X, F);
+  ASSERT_GT(det.minCoeff(), 0.0);
+  const VectorXd bounds = 0.5 * det;  // every face strictly inside, at different gaps
+  const MatrixX3d pull = 1.7 * V.rowwise().normalized();
+  const double mu = 1e-3;
+  MatrixX3d gradient;
+  const double energy = sphere_barrier_energy(F, pull, bounds, mu, X, &gradient);
+  ASSERT_TRUE(std::isfinite(energy));
+  const double h = 1e-7;
+  double worst = 0, largest = 0;
+  for (Index v = 0; v < X.rows(); ++v)
+    for (int d = 0; d < 3; ++d) {
+      MatrixX3d plus = X, minus = X;
+      plus(v, d) += h;
+      minus(v, d) -= h;
+      const double fd = (sphere_barrier_energy(F, pull, bounds, mu, plus) -
+                         sphere_barrier_energy(F, pull, bounds, mu, minus)) / (2 * h);
+      worst = std::max(worst, std::abs(fd - gradient(v, d)));
+      largest = std::max(largest, std::abs(gradient(v, d)));
+    }
+  EXPECT_LT(worst, 1e-6 * std::max(1.0, largest));
+  // Crossing a bound is infinitely expensive: the line search's feasibility test.
+  VectorXd tight = bounds;
+  tight[0] = det[0];
+  EXPECT_EQ(sphere_barrier_energy(F, pull, tight, mu, X), std::numeric_limits<double>::infinity());
+}
+
+TEST(SphereMapBarrier, StaysAboveItsBoundsOnTheSphereAndPullsTowardsTheTargets) {
+  auto [V, F] = test_meshes::lumpy_blob(2);
+  const MatrixX3d start = spherical::sphere_map(V, F).positions.rowwise().normalized();
+  const MatrixX3d pull = V.rowwise().normalized();
+  const VectorXd start_det = face_triple_products(start, F);
+  SphereBarrierOptions o;
+  o.epsilon = 0.05 * start_det.mean();
+  o.mu_start = start_det.mean();
+  o.mu_end = 1e-3 * o.mu_start;
+  const SphereBarrierResult r = sphere_map_barrier(F, pull, start, o);
+  EXPECT_GT(r.steps, 0);
+  EXPECT_LE(r.mu, o.mu_end * (1 + 1e-12));
+  EXPECT_LT((r.positions.rowwise().norm().array() - 1.0).abs().maxCoeff(), 1e-12);
+  const VectorXd det = face_triple_products(r.positions, F);
+  for (Index f = 0; f < F.rows(); ++f) {
+    EXPECT_GT(det[f], r.bounds[f]) << f;
+    EXPECT_LE(r.bounds[f], o.epsilon) << f;
+    EXPECT_GE(r.bounds[f], std::min(o.epsilon, 0.5 * start_det[f])) << f;  // bounds only rise
+  }
+  EXPECT_GT((pull.array() * r.positions.array()).sum(), (pull.array() * start.array()).sum());
+}
+
+TEST(OptimizeSphereMap, AHeavilyWeightedVertexEndsCloserToItsTarget) {
+  auto [V, F] = test_meshes::lumpy_blob(2);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  // Targets: the radial projection turned by 0.3 rad, so the pull fights the
+  // fold bounds everywhere and no vertex reaches its target for free.
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  MatrixX3d target = V.rowwise().normalized() * turn;
+  for (Index v = 0; v < V.rows(); ++v) target(v, 0) += 0.4 * std::sin(5 * V(v, 1));
+  target.rowwise().normalize();
+  OptimizeSphereOptions o;
+  o.target = target;
+  const OptimizeSphereResult plain = optimize_sphere_map(V, F, sphere, o);
+  ASSERT_EQ(plain.flipped, 0);
+  // The vertex left farthest from its target by the unweighted optimum.
+  Index far = 0;
+  (plain.positions - target).rowwise().norm().maxCoeff(&far);
+  const double plain_distance = (plain.positions.row(far) - target.row(far)).norm();
+  ASSERT_GT(plain_distance, 1e-3);
+  VectorXd weights = VectorXd::Ones(V.rows());
+  weights[far] = 1000.0;
+  o.weights = weights;
+  const OptimizeSphereResult weighted = optimize_sphere_map(V, F, sphere, o);
+  EXPECT_EQ(weighted.flipped, 0);
+  EXPECT_LT((weighted.positions.row(far) - target.row(far)).norm(), 0.5 * plain_distance)
+      << plain.status << " " << weighted.status;
+  EXPECT_GT(weighted.objective, weighted.start_objective);
+}
+
+TEST(OptimizeSphereMap, BadWeights) {
+  auto [V, F] = test_meshes::lumpy_blob(1);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  OptimizeSphereOptions o;
+  o.weights = VectorXd::Ones(V.rows() - 1);
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
+  o.weights = VectorXd::Ones(V.rows());
+  (*o.weights)[3] = -1;
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
+  (*o.weights)[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
+  o.weights = VectorXd::Zero(V.rows());
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
 }
