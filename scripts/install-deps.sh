@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   python3-dev python3-numpy python3-pytest pybind11-dev
-  libeigen3-dev libmetis-dev
+  libeigen3-dev libmetis-dev libsuitesparse-dev
   ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers pocl-opencl-icd
   coinor-libipopt-dev libosd-dev libqhull-dev libcgal-dev
   libopenblas0-serial

@@ -5,11 +5,9 @@
 #include <limits>
 #include <vector>
 
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
+#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/MetisSupport>
-#include <Eigen/SparseCholesky>
 
 #include "common/errors.h"
 
@@ -140,7 +138,8 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   }
 
   NewtonPattern pattern(F, vertices);
-  Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::MetisOrdering<int>> llt;
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  llt.cholmod().print = 0;  // a non-positive-definite try is expected (shifted below), not news
   llt.analyzePattern(pattern.A);
   double* values = pattern.A.valuePtr();
   const Index nonzeros = Index(pattern.A.nonZeros());

@@ -1,0 +1,87 @@
+"""Whole morph from the operator, inside Blender (issue 5's figure: two
+20k-face meshes <= 30 s): Morph To on a closed Suzanne (voxel remesh) and the
+octopus sample decimated to the same size, as an artist runs it (no Sphere
+Map cached beforehand, features on).
+
+    PARAMORPH_BUILD_DIR=build blender -b --factory-startup --python tests/bench/morph_operator.py \
+        [-- --faces 20000 --repeats 3]
+
+Prints one JSON line per run pair: the operator's median wall time and, from
+the native result, the per-stage seconds of the last run, the merged face
+count and the pairs used. The target of --faces sets the octopus's size
+exactly and Suzanne's voxel size from a fitted rule (faces ~ 33.4 / voxel^2)."""
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+
+import bpy
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
+for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
+    sys.path.insert(0, path)
+
+import addon_utils  # noqa: E402
+import make_samples  # noqa: E402
+
+
+class RecordingNative:
+    """The native module with morph() wrapped to keep its last result, so the
+    benchmark reads the stage timings of the run the operator made."""
+
+    def __init__(self, native):
+        self._native = native
+        self.last = None
+
+    def __getattr__(self, name):
+        return getattr(self._native, name)
+
+    def morph(self, *args, **kwargs):
+        self.last = self._native.morph(*args, **kwargs)
+        return self.last
+
+
+def select_pair(source, target):
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj in (source, target))
+    bpy.context.view_layer.objects.active = target
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--faces", type=int, default=20_000)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args(argv)
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("paramorph", default_set=True)
+    from paramorph import ops_morph, sphere_cache
+
+    recorder = RecordingNative(ops_morph.native)
+    ops_morph.native = recorder
+    source = make_samples.build_suzanne_closed(voxel_size=(33.4 / args.faces) ** 0.5)
+    target = make_samples.build_octopus(subdivisions=6, faces=args.faces)
+    target.location = (4.0, 0.0, 0.0)
+    times = []
+    for _ in range(args.repeats):
+        sphere_cache.clear()  # an artist's first Morph To computes both sphere maps
+        select_pair(source, target)
+        start = time.perf_counter()
+        assert bpy.ops.paramorph.morph_to() == {"FINISHED"}
+        times.append(time.perf_counter() - start)
+        bpy.data.objects.remove(bpy.context.view_layer.objects.active)
+    result = recorder.last
+    print(json.dumps({
+        "benchmark": "morph_to operator", "source": source.name, "source_faces": len(source.data.polygons),
+        "target": target.name, "target_faces": len(target.data.polygons),
+        "merged_faces": len(result.faces), "pairs": len(result.pairs),
+        "seconds_median": round(statistics.median(times), 2), "seconds": [round(t, 2) for t in times],
+        "stages": {name: round(seconds, 2) for name, seconds in result.timings},
+        "blender": bpy.app.version_string}), flush=True)
+
+
+main()
