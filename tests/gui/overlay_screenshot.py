@@ -144,6 +144,55 @@ def modal_check(label):
     return check
 
 
+def morph_setup():
+    bpy.data.objects.remove(bpy.data.objects["Big"], do_unlink=True)
+    # One shape on two tessellations: its tentacles match.
+    source = make_samples.build_octopus(name="Octopus", subdivisions=3, limbs=4)
+    target = make_samples.build_octopus(name="OctopusB", subdivisions=4, limbs=4)
+    source.location, target.location = (-1.8, 0.0, 0.0), (1.8, 0.0, 0.0)
+    for obj in (source, target):
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = target
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.view3d.view_all()
+        bpy.ops.ed.undo_push(message="Morph inputs")
+        stats["morph"] = {"preview": sorted(bpy.ops.paramorph.preview_matches("EXEC_DEFAULT", True))}
+    for obj in (source, target):
+        obj.select_set(False)  # no selection outline in the picture
+    stats["morph"]["pairs"] = len(bpy.context.scene.paramorph_matches.pairs)
+    stats["morph"]["objects_before"] = sorted(o.name for o in bpy.data.objects)
+
+
+def morph_invoke():
+    source, target = bpy.data.objects["Octopus"], bpy.data.objects["OctopusB"]
+    for obj in (source, target):
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = target
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        stats["morph"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT"))
+    stats["morph"]["running"] = len(jobs.running())
+
+
+def wait_for_morph():
+    """As wait_for_jobs, for the morph (at most 60 s)."""
+    stats["morph"]["waits"] = stats["morph"].get("waits", 0) + 1
+    if jobs.running() and stats["morph"]["waits"] < 120:
+        steps.insert(0, wait_for_morph)
+
+
+def morph_check_and_undo():
+    morph = bpy.data.objects.get("Octopus to OctopusB")
+    stats["morph"]["made"] = morph is not None and morph.data.shape_keys is not None and \
+        [k.name for k in morph.data.shape_keys.key_blocks] == ["Basis", "OctopusB"]
+    stats["morph"]["objects_done"] = sorted(o.name for o in bpy.data.objects)
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.ed.undo()
+    stats["morph"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
+
+
 def finish():
     with open(os.path.join(OUT, "overlay.json"), "w") as f:
         json.dump(stats, f)
@@ -152,7 +201,9 @@ def finish():
 
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
-         modal_invoke("second"), wait_for_jobs, None, modal_check("finished"), finish]
+         modal_invoke("second"), wait_for_jobs, None, modal_check("finished"),
+         morph_setup, None, picture("preview"), morph_invoke, wait_for_morph, None, morph_check_and_undo,
+         finish]
 
 
 def tick():
