@@ -274,6 +274,94 @@ def test_rotations_near_the_tolerance_stay_valid(angle):
         check_merged(r, XA, FA, XS @ R.T, FS)
 
 
+def near_arcs(XA, FA, XB, d, seed, count=40):
+    """XB with `count` vertices moved to `d` radians off A's nearest arc (on
+    either side, the foot inside the arc): a vertex of B almost on an edge of
+    A, crossings of that edge with the vertex's edges within ~d of it."""
+    E = np.unique(np.sort(half_edges(FA), axis=1), axis=0)
+    p0, p1 = XA[E[:, 0]], XA[E[:, 1]]
+    n = np.cross(p0, p1)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    rng = np.random.default_rng(seed)
+    XB, moved = XB.copy(), 0
+    for v in rng.permutation(len(XB)):
+        s = n @ XB[v]
+        foot = XB[v] - s[:, None] * n
+        foot /= np.linalg.norm(foot, axis=1, keepdims=True)
+        inside = (np.einsum("ij,ij->i", np.cross(n, p0), foot) >= 0) & \
+                 (np.einsum("ij,ij->i", np.cross(p1, n), foot) >= 0)
+        e = np.argmin(np.where(inside, np.abs(s), np.inf))
+        if not inside[e] or abs(s[e]) > 0.01:
+            continue
+        Q = foot[e] + d * rng.choice([-1, 1]) * n[e]
+        XB[v] = Q / np.linalg.norm(Q)
+        moved += 1
+        if moved == count:
+            break
+    return XB
+
+
+def near_vertices(XA, XB, d, seed, count=40):
+    """XB with up to `count` vertices moved to `d` radians from A's nearest
+    vertex in a random direction: two vertices almost coincide, and the
+    crossings of their edges lie within ~d of each other."""
+    rng = np.random.default_rng(seed)
+    XB = XB.copy()
+    for v in rng.permutation(len(XB))[:3 * count]:
+        u = np.argmax(XA @ XB[v])
+        if np.linalg.norm(XB[v] - XA[u]) > 0.02:
+            continue
+        t = rng.normal(size=3)
+        t -= (t @ XA[u]) * XA[u]
+        Q = XA[u] + d * t / np.linalg.norm(t)
+        XB[v] = Q / np.linalg.norm(Q)
+    return XB
+
+
+def ellipsoid(X, axes):
+    return X * np.asarray(axes)
+
+
+def positions(V, F, face, bary):
+    """Each merged vertex on a mesh, as morph() makes it: its barycentric
+    coordinates in its face, applied to the mesh's vertices."""
+    return np.einsum("ij,ijk->ik", bary, V[F[face]])
+
+
+@pytest.mark.parametrize("case", ["arc", "vertex", "turned"])
+@pytest.mark.parametrize("d", [1e-10, 1e-9, 1e-8, 1e-7, 1.5e-6, 3e-6])
+def test_near_degenerate_inputs_make_no_slivers(case, d):
+    # A vertex of B within d of an arc of A, two vertices within d (their
+    # crossings within ~d of each other), B = A turned by d: below the
+    # tolerance they merge, above it they stay; either way no triangle is
+    # thinner than THIN tolerances on the sphere (check_merged), and the
+    # per-side 3D positions (two ellipsoids the maps stand for) have no face
+    # that validate() calls degenerate.
+    XA, FA = meshes.icosphere(3)
+    if case == "turned":
+        XB, FB = XA, FA
+        XB_moved = XA @ rotation(7, d).T
+    else:
+        XB, FB = meshes.geodesic_sphere(7)
+        XB = XB @ rotation(1).T
+        XB_moved = near_arcs(XA, FA, XB, d, seed=2) if case == "arc" else near_vertices(XA, XB, d, seed=2)
+    r = pm.overlay(XA, FA, XB_moved, FB)
+    check_merged(r, XA, FA, XB_moved, FB)
+    if d < TOL:  # merged: every near vertex lies on the arc or vertex
+        assert r.stats.merged_vertices > 0 and r.stats.max_merge_distance <= TOL
+    assert pm.validate(r.V, r.F).degenerate_faces.size == 0
+    VA3, VB3 = ellipsoid(XA, (1.0, 0.6, 1.4)), ellipsoid(XB, (1.3, 0.9, 0.7))
+    for V, F, face, bary, source, corner in ((VA3, FA, r.face_a, r.bary_a, r.source_face_a, r.corner_bary_a),
+                                             (VB3, FB, r.face_b, r.bary_b, r.source_face_b, r.corner_bary_b)):
+        P = positions(V, F, face, bary)
+        assert pm.validate(P, r.F).degenerate_faces.size == 0
+        # Every merged triangle lies in its source face: its corners there
+        # are where the per-vertex coordinates put them.
+        at = np.einsum("ij,ijk->ik", corner.reshape(-1, 3), V[F[np.repeat(source, 3)]])
+        diagonal = np.linalg.norm(np.ptp(V, axis=0))
+        assert np.abs(at - P[r.F.reshape(-1)]).max() < 1e-9 * diagonal
+
+
 def test_merge_tolerance_decides_what_is_one_point():
     XA, FA = meshes.icosphere(2)
     XB = XA @ rotation(3, 1e-7).T
