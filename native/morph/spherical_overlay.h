@@ -39,9 +39,9 @@ struct OverlayOptions {
   /// (148 of them on the known-truth pair at 1e-9); triangles of 1e-7 of the
   /// model's size are below float32 resolution in Blender and degenerate by
   /// validate()'s relative area test (1e-14 of the squared diagonal). The
-  /// morph's 3D positions do not move with the tolerance: they come from
-  /// where each merged vertex lies in the inputs (a vertex, a point on an
-  /// edge, a point in a face), which the merging decides.
+  /// morph's 3D positions stay on both surfaces whatever the tolerance: each
+  /// merged vertex is placed on the vertex, edge or face of each input that
+  /// the merging assigns it (so moving it on the sphere slides it along them).
   double merge_tolerance = 1e-6;
 };
 
@@ -124,12 +124,14 @@ constexpr double kMinAltitudeInTolerances = 0.5;
 /// apart, or a needle along two nearly parallel arcs) has its two closest
 /// corners merged (at most 2 tolerances apart, where may_merge() allows), and
 /// the cells are triangulated again. Guarantee: stats.thin_triangles counts
-/// what is left and stats.min_altitude the thinnest triangle; both maps'
-/// faces fatter than 4 tolerances (the tolerance not lowered by thin faces)
-/// give thin_triangles == 0 in every near-degenerate case tested (vertices
-/// 1e-10..1e-5 off arcs and vertices, copies turned by 1e-10..1e-5); where a
-/// map's own faces are thinner (the tolerance lowered to a quarter of them),
-/// triangles cut from those faces near their sharp corners may stay thinner.
+/// what is left and stats.min_altitude the thinnest triangle. It is 0 in
+/// every near-degenerate case the tests build (a vertex 1e-10..3e-6 off an
+/// arc or a vertex of the other map, a copy turned by 1e-10..1e-3, the
+/// known-truth morph); it is not proven 0: a sliver none of whose corner
+/// pairs may be merged (two crossings on different edges of one map, say
+/// inside a face of that map with a very sharp corner) is counted, not
+/// removed. A repair moves vertices by a few tolerances at most
+/// (stats.max_merge_distance, under 2 in the tests; 16 bounds all repairs).
 MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const MatrixX3d& sphere_b,
                        const MatrixX3i& FB, const OverlayOptions& options = {},
                        Progress* progress = nullptr);
