@@ -286,6 +286,47 @@ CellTriangles triangulate_cells(const SphereArrangement& ar, const VertexCluster
   return out;
 }
 
+/// Altitude of the triangle (a, b, c) of nearby unit vectors: twice its flat
+/// area over its longest side (edge differences: exact enough for tiny ones).
+double altitude(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double longest =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return longest > 0 ? (b - a).cross(c - a).norm() / std::sqrt(longest) : 0.0;
+}
+
+/// How far apart (in tolerances) two corners of a sliver may be to be merged.
+constexpr double kSliverReach = 2.0;
+
+/// Smallest altitude of the merged triangles, and how many are thinner than
+/// `thin`. With `repair`, for each of those the closest pair of its corners
+/// that may be merged, at most `reach` apart, is added to it.
+double find_slivers(const CellTriangles& cells, const VertexClusters& clusters, double thin,
+                    double reach, Index& count,
+                    std::vector<std::pair<Index, Index>>* repair = nullptr) {
+  double thinnest = std::numeric_limits<double>::infinity();
+  count = 0;
+  for (const auto& t : cells.triangles) {
+    const Vec3 p[3] = {clusters.position.row(t[0]), clusters.position.row(t[1]),
+                       clusters.position.row(t[2])};
+    const double h = altitude(p[0], p[1], p[2]);
+    thinnest = std::min(thinnest, h);
+    if (!(h < thin)) continue;
+    ++count;
+    if (!repair) continue;
+    double closest = reach;
+    std::pair<Index, Index> pair{-1, -1};
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3;
+      if (!may_merge(clusters.anchors(t[i]), clusters.anchors(t[j]))) continue;
+      const double d = (p[i] - p[j]).norm();
+      if (d <= closest)
+        closest = d, pair = {clusters.representative[t[i]], clusters.representative[t[j]]};
+    }
+    if (pair.first >= 0) repair->push_back(pair);
+  }
+  return thinnest;
+}
+
 /// Half-edges of F without exactly one twin running the other way (0 for a
 /// closed, consistently oriented manifold), counted per vertex's out-edges.
 Index open_half_edges(const MatrixX3i& F, Index vertices) {
@@ -344,10 +385,13 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
 
   // Merge, triangulate; where a cell piece has no positive triangulation
   // (vertices moved by up to the tolerance turned a tiny cell over), merge its
-  // closest pair of vertices as well and start again (see merge_close_vertices.h).
+  // closest pair of vertices as well and start again (see merge_close_vertices.h);
+  // the same for slivers, once every cell has a positive triangulation.
   VertexClusters clusters;
   CellTriangles cells;
   std::vector<std::pair<Index, Index>> forced;
+  const double thin = kMinAltitudeInTolerances * tolerance;
+  Index merged_before = -1;
   for (int round = 0;; ++round) {
     phase = Clock::now();
     clusters = merge_close_vertices(ar, a, b, tolerance, forced);
@@ -356,9 +400,16 @@ MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const Mat
     phase = Clock::now();
     const std::size_t before = forced.size();
     cells = triangulate_cells(ar, clusters, kRepairReach * tolerance, forced);
+    if (forced.size() == before)
+      find_slivers(cells, clusters, thin, kSliverReach * tolerance, stats.thin_triangles, &forced);
     stats.seconds_triangulate += seconds_since(phase);
-    if (forced.size() == before || round + 1 == kRepairRounds) break;
+    // Done when nothing is left to repair, nothing repaired merges any more
+    // (may_merge() refused it), or after the last round.
+    if (forced.size() == before || clusters.merged == merged_before || round + 1 == kRepairRounds)
+      break;
+    merged_before = clusters.merged;
   }
+  stats.min_altitude = find_slivers(cells, clusters, thin, 0.0, stats.thin_triangles);
   stats.merged_vertices = clusters.merged;
   stats.max_merge_distance = clusters.max_deviation;
   stats.degenerate_cells = cells.degenerate;

@@ -223,7 +223,7 @@ through the corner barycentric coordinates.)doc")
       py::arg("pairs") = py::none(), py::arg("pins") = py::none(), py::arg("epsilon") = 0.05,
       py::arg("max_iterations") = 200, py::arg("pin_weight") = 4.0, py::arg("pin_radius") = 0.15,
       py::arg("feature_weight") = 50.0, py::arg("normal_angle") = 40.0, py::arg("concavity_threshold") = 0.02,
-      py::arg("min_area") = 0.005, py::arg("spacing") = 0.05, py::arg("merge_tolerance") = 1e-9,
+      py::arg("min_area") = 0.005, py::arg("spacing") = 0.05, py::arg("merge_tolerance") = 1e-6,
       py::arg("sphere_a") = py::none(), py::arg("sphere_b") = py::none(), py::arg("progress") = py::none(),
       R"doc(Feature-based morph of closed genus-0 mesh A into B (thesis ch. 4): both
 sphere-mapped, A's map optimized (4.3.3), features matched (4.5; off with

@@ -28,6 +28,12 @@ void def_overlay(py::module_& m) {
       .def_readonly("folded", &OverlayStats::folded, "merged triangles with det <= 0 (checked: 0)")
       .def_readonly("open_edges", &OverlayStats::open_edges,
                     "half-edges without one opposite twin (checked: 0)")
+      .def_readonly("min_altitude", &OverlayStats::min_altitude,
+                    "smallest altitude (radians: twice the flat area over the longest side) of "
+                    "the merged triangles on the sphere")
+      .def_readonly("thin_triangles", &OverlayStats::thin_triangles,
+                    "merged triangles thinner than half the tolerance used, left after the "
+                    "sliver repair (0 unless a map's own faces are that thin)")
       .def_readonly("seconds_validate", &OverlayStats::seconds_validate)
       .def_readonly("seconds_arrangement", &OverlayStats::seconds_arrangement)
       .def_readonly("seconds_merge", &OverlayStats::seconds_merge)
@@ -95,7 +101,7 @@ void def_overlay(py::module_& m) {
                                [&] { return morph::overlay(sa, fa, sb, fb, o, bridge.get()); });
       },
       py::arg("sphere_a"), py::arg("FA"), py::arg("sphere_b"), py::arg("FB"), py::kw_only(),
-      py::arg("merge_tolerance") = 1e-9, py::arg("progress") = py::none(),
+      py::arg("merge_tolerance") = 1e-6, py::arg("progress") = py::none(),
       R"doc(Spherical overlay of two sphere maps into one merged topology (thesis 4.4).
 
 The great-circle arcs of A's edges are intersected with B's by walking face to
@@ -104,6 +110,9 @@ ties broken by symbolic perturbation; each cell (face of A ∩ face of B) is
 triangulated. Vertices closer than merge_tolerance (radians) to one point are
 one merged vertex (coincident vertices, vertices on the other map's edges,
 overlapping edges); input vertices of one map are never merged together.
+No slivers: a merged triangle thinner than merge_tolerance / 2 on the sphere
+has its two closest corners merged (stats.thin_triangles: those left, 0 unless
+a map's own faces are that thin; stats.min_altitude: the thinnest).
 
 sphere_a: (VA, 3) unit vectors (within 1e-9); FA: (FA, 3) int faces of a
 closed genus-0 mesh, every face det > 0, covering the sphere once; the same

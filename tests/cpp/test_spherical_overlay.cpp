@@ -10,13 +10,16 @@
 #include <boost/multiprecision/cpp_int.hpp>
 #pragma GCC diagnostic pop
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
 #include "common/errors.h"
 #include "mesh/face_neighbors.h"
 #include "mesh/tri_mesh.h"
+#include "mesh/validate.h"
 #include "morph/point_location.h"
 #include "morph/sphere_predicates.h"
 #include "morph/spherical_overlay.h"
@@ -92,6 +95,69 @@ void expect_valid(const MergedTopology& r, const MatrixX3d& A, const MatrixX3i& 
     EXPECT_LE((pa.normalized() - r.V.row(m)).norm(), moved + 1e-14) << m;
     EXPECT_LE((pb.normalized() - r.V.row(m)).norm(), moved + 1e-14) << m;
   }
+}
+
+/// B with up to `count` vertices moved `d` radians off the nearest arc of A
+/// (alternating sides, the foot inside the arc), those already within 0.02.
+MatrixX3d near_arcs(const MatrixX3d& A, const MatrixX3i& FA, MatrixX3d B, double d, int count) {
+  const TriMesh mesh(A, FA);
+  const MatrixX2i& E = mesh.edges();
+  int moved = 0;
+  for (Index v = 0; v < B.rows() && moved < count; ++v) {
+    const Eigen::Vector3d P = B.row(v);
+    double best = 0.02;
+    Eigen::Vector3d foot, normal;
+    for (Index e = 0; e < E.rows(); ++e) {
+      const Eigen::Vector3d p0 = A.row(E(e, 0)), p1 = A.row(E(e, 1));
+      const Eigen::Vector3d n = p0.cross(p1).normalized();
+      const Eigen::Vector3d f = (P - P.dot(n) * n).normalized();
+      if (n.cross(p0).dot(f) < 0 || p1.cross(n).dot(f) < 0) continue;
+      if (std::abs(P.dot(n)) < best) best = std::abs(P.dot(n)), foot = f, normal = n;
+    }
+    if (best >= 0.02) continue;
+    B.row(v) = (foot + (moved % 2 ? d : -d) * normal).normalized().transpose();
+    ++moved;
+  }
+  return B;
+}
+
+/// B with each vertex within 0.02 of a vertex of A moved to `d` radians from it.
+MatrixX3d near_vertices(const MatrixX3d& A, MatrixX3d B, double d) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  for (Index v = 0; v < B.rows(); ++v) {
+    Index u;
+    (A * B.row(v).transpose()).maxCoeff(&u);
+    const Eigen::Vector3d p = A.row(u);
+    if ((B.row(v).transpose() - p).norm() > 0.02) continue;
+    Eigen::Vector3d t(normal(rng), normal(rng), normal(rng));
+    t = (t - t.dot(p) * p).normalized();
+    B.row(v) = (p + d * t).normalized().transpose();
+  }
+  return B;
+}
+
+/// Each merged vertex on a mesh V, F from its face and barycentric
+/// coordinates, as morph() places it.
+MatrixX3d positions_on(const MatrixX3d& V, const MatrixX3i& F, const VectorXi& face,
+                       const MatrixX3d& bary) {
+  MatrixX3d P(face.size(), 3);
+  for (Index m = 0; m < face.size(); ++m)
+    P.row(m) = bary(m, 0) * V.row(F(face[m], 0)) + bary(m, 1) * V.row(F(face[m], 1)) +
+               bary(m, 2) * V.row(F(face[m], 2));
+  return P;
+}
+
+/// Smallest altitude (twice the area over the longest side) of the triangles.
+double thinnest(const MatrixX3d& V, const MatrixX3i& F) {
+  double h = std::numeric_limits<double>::infinity();
+  for (Index t = 0; t < F.rows(); ++t) {
+    const Eigen::Vector3d a = V.row(F(t, 0)), b = V.row(F(t, 1)), c = V.row(F(t, 2));
+    const double longest =
+        std::sqrt(std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()}));
+    h = std::min(h, (b - a).cross(c - a).norm() / longest);
+  }
+  return h;
 }
 
 }  // namespace
@@ -227,4 +293,41 @@ TEST(SphericalOverlay, RejectsBadInput) {
   OverlayOptions bad;
   bad.merge_tolerance = std::nan("");
   EXPECT_THROW(overlay(A, FA, A, FA, bad), InvalidInputError);
+}
+
+TEST(SphericalOverlay, NearDegenerateInputsMakeNoSlivers) {
+  // A vertex of B within d of an arc of A, within d of a vertex of A (their
+  // crossings within ~d of each other), B = A turned by d: under the
+  // tolerance they merge, over it they stay, and no merged triangle is
+  // thinner than kMinAltitudeInTolerances tolerances on the sphere nor
+  // degenerate (validate()) there or on the two ellipsoids the maps stand for.
+  auto [A, FA] = test_meshes::icosphere(3);
+  auto [G, FG] = test_meshes::icosphere(2);
+  G = (G * rotation(3, 0.7).transpose()).eval();
+  const Eigen::RowVector3d axes_a(1.0, 0.6, 1.4), axes_b(1.3, 0.9, 0.7);
+  for (const double d : {1e-10, 1e-8, 1e-7, 1.5e-6, 3e-6})
+    for (int which = 0; which < 3; ++which) {
+      SCOPED_TRACE(testing::Message() << "d " << d << " case " << which);
+      const MatrixX3d& B = which == 2 ? A : G;
+      const MatrixX3i& FB = which == 2 ? FA : FG;
+      const MatrixX3d moved = which == 0   ? near_arcs(A, FA, G, d, 30)
+                              : which == 1 ? near_vertices(A, G, d)
+                                           : MatrixX3d(A * rotation(8, d).transpose());
+      const MergedTopology r = overlay(A, FA, moved, FB);
+      expect_valid(r, A, FA, moved, FB);
+      const double tolerance = r.stats.merge_tolerance;
+      EXPECT_EQ(tolerance, OverlayOptions().merge_tolerance);
+      if (d < tolerance) {
+        EXPECT_GT(r.stats.merged_vertices, 0);
+        EXPECT_LE(r.stats.max_merge_distance, tolerance);
+      }
+      EXPECT_EQ(r.stats.thin_triangles, 0);
+      EXPECT_GE(thinnest(r.V, r.F), kMinAltitudeInTolerances * tolerance);
+      EXPECT_NEAR(r.stats.min_altitude, thinnest(r.V, r.F), 1e-6 * r.stats.min_altitude);
+      EXPECT_TRUE(validate(TriMesh(r.V, r.F)).degenerate_faces.empty());
+      const MatrixX3d PA = positions_on(A.array().rowwise() * axes_a.array(), FA, r.face_a, r.bary_a);
+      const MatrixX3d PB = positions_on(B.array().rowwise() * axes_b.array(), FB, r.face_b, r.bary_b);
+      EXPECT_TRUE(validate(TriMesh(PA, r.F)).degenerate_faces.empty());
+      EXPECT_TRUE(validate(TriMesh(PB, r.F)).degenerate_faces.empty());
+    }
 }

@@ -13,7 +13,8 @@ import pytest
 import meshes
 import paramorph_native as pm
 
-TOL = 1e-9  # the default merge_tolerance
+TOL = 1e-6  # the default merge_tolerance
+THIN = 0.5  # pm overlay's sliver bound: no triangle thinner than THIN * the tolerance used
 
 
 def rotation(seed, angle=None):
@@ -41,6 +42,13 @@ def orientations(V, F):
     their sign (the plain triple product's rounding is ~1e-16 absolute)."""
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
     return np.einsum("ij,ij->i", np.cross(b - a, c - a), a + b + c)
+
+
+def altitudes(V, F):
+    """Per triangle: twice its flat area over its longest side (edge differences)."""
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    longest = np.sqrt(np.maximum.reduce([((b - a) ** 2).sum(1), ((c - b) ** 2).sum(1), ((a - c) ** 2).sum(1)]))
+    return np.linalg.norm(np.cross(b - a, c - a), axis=1) / longest
 
 
 def half_edges(F):
@@ -90,7 +98,7 @@ def check_chains(r, X, F, source_face, vertex_of, name):
         assert seen == len(links) + 1, f"{name}: edge {u}-{v} has a loose piece"
 
 
-def check_merged(r, XA, FA, XB, FB, tol=TOL):
+def check_merged(r, XA, FA, XB, FB, tol=TOL, slivers=False):
     M, K = len(r.V), len(r.F)
     # The tolerance used: the one asked for unless a map has thinner faces.
     assert 1e-15 <= r.stats.merge_tolerance <= tol
@@ -131,6 +139,13 @@ def check_merged(r, XA, FA, XB, FB, tol=TOL):
         assert (cb >= 0).all() and np.allclose(cb.sum(1), 1, atol=1e-12)
         at = reproject(X, F, np.repeat(source, 3), cb)
         assert np.linalg.norm(at - r.V[r.F.reshape(-1)], axis=1).max() <= moved + 1e-14
+    # No slivers: every triangle at least THIN tolerances high on the sphere
+    # (unless a map's own faces are that thin: `slivers` allowed then).
+    h = altitudes(r.V, r.F)
+    assert s.min_altitude == pytest.approx(h.min(), rel=1e-6, abs=1e-300)
+    assert s.thin_triangles == (h < THIN * tol).sum()
+    if not slivers:
+        assert s.thin_triangles == 0 and h.min() >= THIN * tol
     check_chains(r, XA, FA, r.source_face_a, r.vertex_of_a, "A")
     check_chains(r, XB, FB, r.source_face_b, r.vertex_of_b, "B")
     # Euler on the arrangement: faces = |FA| + |FB| + crossings - 2 before merging.
@@ -229,7 +244,7 @@ def octahedron():
     return X, F
 
 
-@pytest.mark.parametrize("angle", [1e-15, 1e-12, 1e-10])
+@pytest.mark.parametrize("angle", [1e-15, 1e-12, 1e-10, 1e-7])
 def test_tiny_rotations_merge_back_to_the_map(angle):
     # B = A turned by far less than the tolerance: no cracks, folds or
     # slivers, just A again with every vertex of both.
@@ -245,7 +260,7 @@ def test_tiny_rotations_merge_back_to_the_map(angle):
     assert len(r.F) == len(FS) and (r.vertex_kind == 3).sum() == 0
 
 
-@pytest.mark.parametrize("angle", [2e-9, 5e-9, 3e-8, 1e-6])
+@pytest.mark.parametrize("angle", [1.5e-6, 2e-6, 5e-6, 3e-5, 1e-3])
 def test_rotations_near_the_tolerance_stay_valid(angle):
     # Between the tolerance and visible size the overlay keeps real but tiny
     # cells; they must still be a valid, fold-free triangulation.
@@ -259,14 +274,102 @@ def test_rotations_near_the_tolerance_stay_valid(angle):
         check_merged(r, XA, FA, XS @ R.T, FS)
 
 
+def near_arcs(XA, FA, XB, d, seed, count=40):
+    """XB with `count` vertices moved to `d` radians off A's nearest arc (on
+    either side, the foot inside the arc): a vertex of B almost on an edge of
+    A, crossings of that edge with the vertex's edges within ~d of it."""
+    E = np.unique(np.sort(half_edges(FA), axis=1), axis=0)
+    p0, p1 = XA[E[:, 0]], XA[E[:, 1]]
+    n = np.cross(p0, p1)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    rng = np.random.default_rng(seed)
+    XB, moved = XB.copy(), 0
+    for v in rng.permutation(len(XB)):
+        s = n @ XB[v]
+        foot = XB[v] - s[:, None] * n
+        foot /= np.linalg.norm(foot, axis=1, keepdims=True)
+        inside = (np.einsum("ij,ij->i", np.cross(n, p0), foot) >= 0) & \
+                 (np.einsum("ij,ij->i", np.cross(p1, n), foot) >= 0)
+        e = np.argmin(np.where(inside, np.abs(s), np.inf))
+        if not inside[e] or abs(s[e]) > 0.01:
+            continue
+        Q = foot[e] + d * rng.choice([-1, 1]) * n[e]
+        XB[v] = Q / np.linalg.norm(Q)
+        moved += 1
+        if moved == count:
+            break
+    return XB
+
+
+def near_vertices(XA, XB, d, seed, count=40):
+    """XB with up to `count` vertices moved to `d` radians from A's nearest
+    vertex in a random direction: two vertices almost coincide, and the
+    crossings of their edges lie within ~d of each other."""
+    rng = np.random.default_rng(seed)
+    XB = XB.copy()
+    for v in rng.permutation(len(XB))[:3 * count]:
+        u = np.argmax(XA @ XB[v])
+        if np.linalg.norm(XB[v] - XA[u]) > 0.02:
+            continue
+        t = rng.normal(size=3)
+        t -= (t @ XA[u]) * XA[u]
+        Q = XA[u] + d * t / np.linalg.norm(t)
+        XB[v] = Q / np.linalg.norm(Q)
+    return XB
+
+
+def ellipsoid(X, axes):
+    return X * np.asarray(axes)
+
+
+def positions(V, F, face, bary):
+    """Each merged vertex on a mesh, as morph() makes it: its barycentric
+    coordinates in its face, applied to the mesh's vertices."""
+    return np.einsum("ij,ijk->ik", bary, V[F[face]])
+
+
+@pytest.mark.parametrize("case", ["arc", "vertex", "turned"])
+@pytest.mark.parametrize("d", [1e-10, 1e-9, 1e-8, 1e-7, 1.5e-6, 3e-6])
+def test_near_degenerate_inputs_make_no_slivers(case, d):
+    # A vertex of B within d of an arc of A, two vertices within d (their
+    # crossings within ~d of each other), B = A turned by d: below the
+    # tolerance they merge, above it they stay; either way no triangle is
+    # thinner than THIN tolerances on the sphere (check_merged), and the
+    # per-side 3D positions (two ellipsoids the maps stand for) have no face
+    # that validate() calls degenerate.
+    XA, FA = meshes.icosphere(3)
+    if case == "turned":
+        XB, FB = XA, FA
+        XB_moved = XA @ rotation(7, d).T
+    else:
+        XB, FB = meshes.geodesic_sphere(7)
+        XB = XB @ rotation(1).T
+        XB_moved = near_arcs(XA, FA, XB, d, seed=2) if case == "arc" else near_vertices(XA, XB, d, seed=2)
+    r = pm.overlay(XA, FA, XB_moved, FB)
+    check_merged(r, XA, FA, XB_moved, FB)
+    if d < TOL:  # merged: every near vertex lies on the arc or vertex
+        assert r.stats.merged_vertices > 0 and r.stats.max_merge_distance <= TOL
+    assert pm.validate(r.V, r.F).degenerate_faces.size == 0
+    VA3, VB3 = ellipsoid(XA, (1.0, 0.6, 1.4)), ellipsoid(XB, (1.3, 0.9, 0.7))
+    for V, F, face, bary, source, corner in ((VA3, FA, r.face_a, r.bary_a, r.source_face_a, r.corner_bary_a),
+                                             (VB3, FB, r.face_b, r.bary_b, r.source_face_b, r.corner_bary_b)):
+        P = positions(V, F, face, bary)
+        assert pm.validate(P, r.F).degenerate_faces.size == 0
+        # Every merged triangle lies in its source face: its corners there
+        # are where the per-vertex coordinates put them.
+        at = np.einsum("ij,ijk->ik", corner.reshape(-1, 3), V[F[np.repeat(source, 3)]])
+        diagonal = np.linalg.norm(np.ptp(V, axis=0))
+        assert np.abs(at - P[r.F.reshape(-1)]).max() < 1e-9 * diagonal
+
+
 def test_merge_tolerance_decides_what_is_one_point():
     XA, FA = meshes.icosphere(2)
     XB = XA @ rotation(3, 1e-7).T
-    apart = pm.overlay(XA, FA, XB, FA)  # 1e-7 > 1e-9: two vertices each
-    check_merged(apart, XA, FA, XB, FA)
-    assert (apart.vertex_kind == 2).sum() == 0
-    together = pm.overlay(XA, FA, XB, FA, merge_tolerance=1e-6)
-    check_merged(together, XA, FA, XB, FA, tol=1e-6)
+    apart = pm.overlay(XA, FA, XB, FA, merge_tolerance=1e-9)  # 1e-7 > 1e-9: two vertices each
+    check_merged(apart, XA, FA, XB, FA, tol=1e-9)
+    assert (apart.vertex_kind == 2).sum() == 0 and apart.stats.merge_tolerance == 1e-9
+    together = pm.overlay(XA, FA, XB, FA)  # the default, 1e-6
+    check_merged(together, XA, FA, XB, FA)
     assert together.stats.merge_tolerance == 1e-6
     assert (together.vertex_kind == 2).all() and canonical(together.F) == canonical(FA)
 
