@@ -36,6 +36,10 @@ struct SphereBarrierResult {
   VectorXd bounds;
   double mu = 0;  ///< the barrier weight of the last round
   int steps = 0;  ///< Newton steps taken
+  /// Newton systems factored, shifted retries included (one per step and one
+  /// per round's final centring test when no system needs a shift).
+  int factorizations = 0;
+  int rounds = 0;  ///< values of mu visited
 };
 
 /// F: #F by 3 faces; pull: #V by 3, p_i = w_i t_i (weighted targets);

@@ -180,6 +180,11 @@ TEST(SphereMapBarrier, StaysAboveItsBoundsOnTheSphereAndPullsTowardsTheTargets) 
     EXPECT_GE(r.bounds[f], std::min(o.epsilon, 0.5 * start_det[f])) << f;  // bounds only rise
   }
   EXPECT_GT((pull.array() * r.positions.array()).sum(), (pull.array() * start.array()).sum());
+  // 3 decades at a factor 0.1: mu_start, /10, /100 and mu_end, no more.
+  EXPECT_EQ(r.rounds, 4);
+  // The Newton systems are positive definite as built: one factorization per
+  // step and one per round's last centring test, no shifted retries.
+  EXPECT_EQ(r.factorizations, r.steps + r.rounds);
 }
 
 TEST(OptimizeSphereMap, AHeavilyWeightedVertexEndsCloserToItsTarget) {
