@@ -8,6 +8,8 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "morph/closest_points.h"
+#include "morph/pair_nearest_points.h"
 #include "morph/radial_projection.h"
 #include "param/spherical/sphere_map.h"
 
@@ -60,6 +62,9 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   if (o.pairs) check_pairs(*o.pairs, VA.rows(), VB.rows(), "pair");
   PM_REQUIRE(std::isfinite(o.pin_weight) && o.pin_weight > 0 && std::isfinite(o.pin_radius) &&
                  o.pin_radius >= 0, InvalidInputError, "pin_weight must be positive and pin_radius >= 0");
+  PM_REQUIRE(std::isfinite(o.pair_distance) && o.pair_distance >= 0 && std::isfinite(o.registered_warp_width) &&
+                 o.registered_warp_width >= 0 && o.registered_warp_width < M_PI,
+             InvalidInputError, "pair_distance must be >= 0 and registered_warp_width in [0, pi)");
   Morph m;
   if (progress) progress->report(0.0, "morph");
 
@@ -93,15 +98,47 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   }
   std::vector<std::array<Index, 2>> automatic;
   std::vector<double> scores;
+  std::optional<MatrixX3d> registered_target;  // B's targets from the registration
   if (o.pairs) {
     automatic = *o.pairs;
     scores.assign(automatic.size(), 0.0);
   } else if (o.features) {
-    m.match = stage("match features", 0.45, 0.55, progress, m.timings, [&](Progress* p) {
+    m.match = stage("match features", 0.45, 0.52, progress, m.timings, [&](Progress* p) {
       return features::match_features(VA, FA, VB, FB, o.match, p);
     });
     automatic = m.match->point_pairs;
     scores = m.match->point_scores;
+    if (o.register_surfaces) {
+      // 3. Register B onto A, from the objects' own placement (first: it
+      // wins ties) and from the match's rotation, both scaled and centred
+      // by the match's normalisation.
+      const features::FeatureMatch& match = *m.match;
+      const Eigen::RowVector3d cb = match.centre_b.transpose(), ca = match.centre_a.transpose();
+      const std::vector<PolynomialWarp> starts = {
+          PolynomialWarp::similarity(cb, match.scale_b, Eigen::Matrix3d::Identity(), ca, match.scale_a),
+          PolynomialWarp::similarity(cb, match.scale_b, match.rotation, ca, match.scale_a)};
+      m.registration = stage("register B onto A", 0.52, 0.58, progress, m.timings, [&](Progress* p) {
+        return register_surfaces(VA, FA, VB, FB, starts, o.registration, p);
+      });
+      const MatrixX3d registered = m.registration->warp(VB);
+      // B's targets: A's optimized map at the closest points of A.
+      const ClosestPoints on_a = ClosestPointTree(VA, FA).query(registered);
+      registered_target = positions_on(m.sphere_a, FA, on_a.face, on_a.bary).rowwise().normalized();
+      // The pairs: mutually nearest feature points of one kind after registration.
+      const auto& pa = match.points_a;
+      const auto& pb = match.points_b;
+      MatrixX3d xa(Index(pa.vertices.size()), 3), xb(Index(pb.vertices.size()), 3);
+      for (Index i = 0; i < xa.rows(); ++i) xa.row(i) = VA.row(pa.vertices[i]);
+      for (Index i = 0; i < xb.rows(); ++i) xb.row(i) = registered.row(pb.vertices[i]);
+      const double diagonal = (VA.colwise().maxCoeff() - VA.colwise().minCoeff()).norm();
+      const PointPairs near = pair_nearest_points(xa, pa.kinds, xb, pb.kinds, o.pair_distance * diagonal);
+      automatic.clear();
+      scores.clear();
+      for (std::size_t i = 0; i < near.pairs.size(); ++i) {
+        automatic.push_back({pa.vertices[near.pairs[i][0]], pb.vertices[near.pairs[i][1]]});
+        scores.push_back(near.distances[i] / diagonal);
+      }
+    }
   }
   for (std::size_t i = 0; i < automatic.size(); ++i) {
     bool clashes = false;
@@ -115,8 +152,9 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     m.pair_scores.push_back(scores[i]);
   }
 
-  // 3. B's map: its own radial projection (turned by the feature match's
-  // rotation when there is one), bent towards A's paired features.
+  // 4. B's map: its registered targets, or its own radial projection
+  // (turned by the feature match's rotation when there is one), bent
+  // towards A's paired features.
   std::vector<Index> paired_b;
   MatrixX3d targets(Index(m.pairs.size()), 3);
   VectorXd weights(Index(m.pairs.size()));
@@ -128,7 +166,12 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   AlignSphereOptions align = o.align;
   align.epsilon = o.epsilon;
   align.max_iterations = o.max_iterations;
-  if (m.match) align.target = radial_projection(VB, FB) * m.match->rotation.transpose();
+  if (registered_target) {
+    align.target = *registered_target;
+    if (align.warp_width == 0) align.warp_width = o.registered_warp_width;
+  } else if (m.match) {
+    align.target = radial_projection(VB, FB) * m.match->rotation.transpose();
+  }
   const AlignSphereResult aligned = for_mesh("B", [&] {
     return stage("align B", 0.55, 0.88, progress, m.timings, [&](Progress* p) {
       return align_sphere_map(VB, FB, start_b, paired_b, targets, weights, align, p);
@@ -137,7 +180,7 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   m.sphere_b = aligned.positions;
   m.mean_pair_error = aligned.mean_error;
 
-  // 4. Overlay, 5. positions on both meshes.
+  // 5. Overlay, 6. positions on both meshes.
   m.merged = stage("overlay", 0.88, 0.98, progress, m.timings, [&](Progress* p) {
     return overlay(m.sphere_a, FA, m.sphere_b, FB, o.overlay, p);
   });

@@ -5,10 +5,16 @@
 //      morphing (optimize_sphere_map, 4.3.3);
 //   2. match feature regions and feature points (match_features, 4.5);
 //      user pins join the automatic pairs and win over them;
-//   3. optimize B's map towards its own radial projection and A's paired
-//      features (align_sphere_map, (4.12) with the fold constraints);
-//   4. overlay the two maps into one merged topology (overlay, 4.4);
-//   5. every merged vertex's position on A and on B from its barycentric
+//   3. with features: register B onto A in 3D (register_surfaces: polynomial
+//      point-to-plane ICP from the match's similarity and from the objects'
+//      own placement); B's targets are A's map at the closest points of A
+//      to the registered B, and the pairs are the mutually nearest feature
+//      points after registration (pair_nearest_points);
+//   4. optimize B's map towards its targets (its own radial projection
+//      without features) and A's paired features (align_sphere_map,
+//      (4.12) with the fold constraints);
+//   5. overlay the two maps into one merged topology (overlay, 4.4);
+//   6. every merged vertex's position on A and on B from its barycentric
 //      coordinates: the source and target of a linear morph (4.4).
 #pragma once
 
@@ -23,6 +29,7 @@
 #include "mesh/types.h"
 #include "morph/align_sphere_map.h"
 #include "morph/optimize_sphere_map.h"
+#include "morph/register_surfaces.h"
 #include "morph/spherical_overlay.h"
 
 namespace paramorph::morph {
@@ -43,6 +50,20 @@ struct MorphOptions {
   double epsilon = 0.05;       ///< fold bound of both optimized maps
   int max_iterations = 200;
   features::MatchOptions match;
+  /// With features (and no `pairs` given): register B onto A in 3D and take
+  /// B's targets and the pairs from the registration (step 3). Off: B's
+  /// radial projection turned by the match's rotation, and the match's
+  /// pairs after region-centroid alignment.
+  bool register_surfaces = true;
+  RegisterOptions registration;
+  /// Largest distance of a feature pair after registration, as a share of
+  /// A's bounding-box diagonal.
+  double pair_distance = 0.03;
+  /// Width (radians) of align_sphere_map's warp when the targets come from
+  /// the registration and align.warp_width is 0: the targets already follow
+  /// the features, the warp only spreads the pairs' small offsets (about a
+  /// vertex spacing: feature points are vertices of two tessellations).
+  double registered_warp_width = 0.1;
   AlignSphereOptions align;    ///< epsilon / max_iterations taken from above
   OverlayOptions overlay;
   /// Fold-free sphere maps of A / B already at hand (e.g. the add-on's
@@ -59,6 +80,7 @@ struct Morph {
   std::vector<double> pair_scores;  ///< automatic pairs: match_features' score; pins: 0
   MatrixX3d sphere_a, sphere_b;     ///< the two maps that were overlaid
   std::optional<features::FeatureMatch> match;  ///< when features were matched
+  std::optional<Registration> registration;      ///< when B was registered onto A
   double mean_pair_error = 0;   ///< mean angle (radians) between paired points on the two maps
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
 };

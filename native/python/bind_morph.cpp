@@ -165,6 +165,9 @@ void def_morph(py::module_& m) {
       .def_property_readonly("pair_scores", [](const Morph& r) { return to_numpy(r.pair_scores); })
       .def_readonly("mean_pair_error", &Morph::mean_pair_error,
                     "mean angle (radians) between paired points on the two maps")
+      .def_property_readonly("registration_cost", [](const Morph& r) -> py::object {
+        return r.registration ? py::cast(r.registration->cost) : py::none();
+      }, "mean distance of the registered B from A (share of A's diagonal), or None")
       .def_property_readonly("sphere_a", [](const Morph& r) { return to_numpy(r.sphere_a); })
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
       .def_property_readonly("match", [](const Morph& r) -> py::object {
@@ -197,9 +200,11 @@ through the corner barycentric coordinates.)doc")
          const py::object& pairs, const py::object& pins, double epsilon, int max_iterations, double pin_weight,
          double pin_radius, double feature_weight, double normal_angle, double concavity_threshold,
          double min_area, double spacing, double merge_tolerance, const py::object& sphere_a,
-         const py::object& sphere_b, py::object progress) {
+         const py::object& sphere_b, bool register_surfaces, double pair_distance, py::object progress) {
         morph::MorphOptions o;
         o.features = features;
+        o.register_surfaces = register_surfaces;
+        o.pair_distance = pair_distance;
         if (!pairs.is_none()) o.pairs = to_index_pairs(pairs, "pairs");
         if (!pins.is_none()) o.pins = to_index_pairs(pins, "pins");
         o.epsilon = epsilon;
@@ -224,18 +229,23 @@ through the corner barycentric coordinates.)doc")
       py::arg("max_iterations") = 200, py::arg("pin_weight") = 4.0, py::arg("pin_radius") = 0.15,
       py::arg("feature_weight") = 50.0, py::arg("normal_angle") = 40.0, py::arg("concavity_threshold") = 0.02,
       py::arg("min_area") = 0.005, py::arg("spacing") = 0.05, py::arg("merge_tolerance") = 1e-6,
-      py::arg("sphere_a") = py::none(), py::arg("sphere_b") = py::none(), py::arg("progress") = py::none(),
+      py::arg("sphere_a") = py::none(), py::arg("sphere_b") = py::none(),
+      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("progress") = py::none(),
       R"doc(Feature-based morph of closed genus-0 mesh A into B (thesis ch. 4): both
 sphere-mapped, A's map optimized (4.3.3), features matched (4.5; off with
 features=False, or `pairs` (k, 2) given instead), B's map aligned to A's
 paired features ((4.12), fold constraints), the maps overlaid (4.4).
+With features, B is first registered onto A in 3D (register_surfaces=True:
+polynomial point-to-plane ICP); B's targets are then A's map at the closest
+points of A, and the pairs are the feature points mutually nearest after
+registration, within pair_distance (share of A's bounding-box diagonal).
 pins: (k, 2) user pairs, always used and winning over automatic pairs on or
 within pin_radius (radians) of their vertices. sphere_a / sphere_b: fold-free
 sphere maps already at hand.
 
 Returns Morph: faces, sphere, source (A's shape), target (B's shape),
 vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, pair_scores,
-mean_pair_error, sphere_a/b, match, timings, carry(side, values). Errors name
+mean_pair_error, registration_cost, sphere_a/b, match, timings, carry(side, values). Errors name
 the mesh ("mesh A: ..."), keep their MeshError type; Cancelled.)doc");
 }
 
