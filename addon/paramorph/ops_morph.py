@@ -71,9 +71,11 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, FeatureRegionSettings, bpy.types.
         options = self.feature_options()
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": (tri_poly_a, tri_poly_b)}
-        return native.match_features, (VA, FA, VB, FB), options, state
+        # The pairs Morph To would make (B registered onto A, then feature points paired).
+        return native.morph_pairs, (VA, FA, VB, FB), options, state
 
-    def finish(self, context, match, state):
+    def finish(self, context, result, state):
+        match = result.match
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
         labels_a = np.asarray(match.labels_a)
         labels_b = np.asarray(match.labels_b)
@@ -98,11 +100,12 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, FeatureRegionSettings, bpy.types.
         matches.source_vertices, matches.target_vertices = len(source.data.vertices), len(target.data.vertices)
         for a, b in pins:
             add_pair(matches, a, b, 0.0, pin=True)
-        for (a, b), score in zip(np.asarray(match.point_pairs).reshape(-1, 2), match.point_scores):
+        pairs = np.asarray(result.pairs).reshape(-1, 2)
+        for (a, b), score in zip(pairs, result.scores):
             add_pair(matches, int(a), int(b), float(score))
         overlay.tag_redraw(context)
         return (f"Preview Matches: {len(match.region_pairs)} region pairs, "
-                f"{len(match.point_pairs)} point pairs" + (f", {len(pins)} pins kept" if pins else ""))
+                f"{len(pairs)} point pairs" + (f", {len(pins)} pins kept" if pins else ""))
 
 
 def add_pair(matches, vertex_a, vertex_b, score, pin=False):

@@ -9,8 +9,8 @@
 
 #include "common/errors.h"
 #include "morph/closest_points.h"
-#include "morph/pair_nearest_points.h"
 #include "morph/radial_projection.h"
+#include "morph/registered_pairs.h"
 #include "param/spherical/sphere_map.h"
 
 namespace paramorph::morph {
@@ -99,46 +99,25 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   std::vector<std::array<Index, 2>> automatic;
   std::vector<double> scores;
   std::optional<MatrixX3d> registered_target;  // B's targets from the registration
+  if (o.features) {
+    MorphPairs matched = stage("match features", 0.45, 0.58, progress, m.timings, [&](Progress* p) {
+      return morph_pairs(VA, FA, VB, FB, o.match, o.register_surfaces, o.registration, o.pair_distance, p);
+    });
+    m.match = std::move(matched.match);
+    m.registration = std::move(matched.registration);
+    automatic = std::move(matched.pairs.pairs);
+    scores = std::move(matched.pairs.scores);
+    if (m.registration) {
+      // 3. B's targets: A's optimized map at the closest points of A to the registered B.
+      const ClosestPoints on_a = ClosestPointTree(VA, FA).query(m.registration->warp(VB));
+      registered_target = positions_on(m.sphere_a, FA, on_a.face, on_a.bary).rowwise().normalized();
+    }
+  }
+  // Pairs given (e.g. edited in Preview Matches) replace the automatic ones;
+  // the registration's targets still apply.
   if (o.pairs) {
     automatic = *o.pairs;
     scores.assign(automatic.size(), 0.0);
-  } else if (o.features) {
-    m.match = stage("match features", 0.45, 0.52, progress, m.timings, [&](Progress* p) {
-      return features::match_features(VA, FA, VB, FB, o.match, p);
-    });
-    automatic = m.match->point_pairs;
-    scores = m.match->point_scores;
-    if (o.register_surfaces) {
-      // 3. Register B onto A, from the objects' own placement (first: it
-      // wins ties) and from the match's rotation, both scaled and centred
-      // by the match's normalisation.
-      const features::FeatureMatch& match = *m.match;
-      const Eigen::RowVector3d cb = match.centre_b.transpose(), ca = match.centre_a.transpose();
-      const std::vector<PolynomialWarp> starts = {
-          PolynomialWarp::similarity(cb, match.scale_b, Eigen::Matrix3d::Identity(), ca, match.scale_a),
-          PolynomialWarp::similarity(cb, match.scale_b, match.rotation, ca, match.scale_a)};
-      m.registration = stage("register B onto A", 0.52, 0.58, progress, m.timings, [&](Progress* p) {
-        return register_surfaces(VA, FA, VB, FB, starts, o.registration, p);
-      });
-      const MatrixX3d registered = m.registration->warp(VB);
-      // B's targets: A's optimized map at the closest points of A.
-      const ClosestPoints on_a = ClosestPointTree(VA, FA).query(registered);
-      registered_target = positions_on(m.sphere_a, FA, on_a.face, on_a.bary).rowwise().normalized();
-      // The pairs: mutually nearest feature points of one kind after registration.
-      const auto& pa = match.points_a;
-      const auto& pb = match.points_b;
-      MatrixX3d xa(Index(pa.vertices.size()), 3), xb(Index(pb.vertices.size()), 3);
-      for (Index i = 0; i < xa.rows(); ++i) xa.row(i) = VA.row(pa.vertices[i]);
-      for (Index i = 0; i < xb.rows(); ++i) xb.row(i) = registered.row(pb.vertices[i]);
-      const double diagonal = (VA.colwise().maxCoeff() - VA.colwise().minCoeff()).norm();
-      const PointPairs near = pair_nearest_points(xa, pa.kinds, xb, pb.kinds, o.pair_distance * diagonal);
-      automatic.clear();
-      scores.clear();
-      for (std::size_t i = 0; i < near.pairs.size(); ++i) {
-        automatic.push_back({pa.vertices[near.pairs[i][0]], pb.vertices[near.pairs[i][1]]});
-        scores.push_back(near.distances[i] / diagonal);
-      }
-    }
   }
   for (std::size_t i = 0; i < automatic.size(); ++i) {
     bool clashes = false;

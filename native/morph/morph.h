@@ -9,7 +9,7 @@
 //      point-to-plane ICP from the match's similarity and from the objects'
 //      own placement); B's targets are A's map at the closest points of A
 //      to the registered B, and the pairs are the mutually nearest feature
-//      points after registration (pair_nearest_points);
+//      points after registration (registered_pairs);
 //   4. optimize B's map towards its targets (its own radial projection
 //      without features) and A's paired features (align_sphere_map,
 //      (4.12) with the fold constraints);
@@ -50,8 +50,8 @@ struct MorphOptions {
   double epsilon = 0.05;       ///< fold bound of both optimized maps
   int max_iterations = 200;
   features::MatchOptions match;
-  /// With features (and no `pairs` given): register B onto A in 3D and take
-  /// B's targets and the pairs from the registration (step 3). Off: B's
+  /// With features: register B onto A in 3D and take B's targets and (unless
+  /// `pairs` are given) the pairs from the registration (step 3). Off: B's
   /// radial projection turned by the match's rotation, and the match's
   /// pairs after region-centroid alignment.
   bool register_surfaces = true;

@@ -1,11 +1,13 @@
 // Morphing (native/morph/): optimize_sphere_map (morph/optimize_sphere_map.h),
-// align_sphere_map (morph/align_sphere_map.h), morph (morph/morph.h).
+// align_sphere_map (morph/align_sphere_map.h), morph (morph/morph.h),
+// morph_pairs (morph/registered_pairs.h).
 
 #include <pybind11/stl.h>
 
 #include "morph/align_sphere_map.h"
 #include "morph/morph.h"
 #include "morph/optimize_sphere_map.h"
+#include "morph/registered_pairs.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
 #include "python/progress.h"
@@ -249,10 +251,49 @@ mean_pair_error, registration_cost, sphere_a/b, match, timings, carry(side, valu
 the mesh ("mesh A: ..."), keep their MeshError type; Cancelled.)doc");
 }
 
+void def_morph_pairs(py::module_& m) {
+  using morph::MorphPairs;
+  py::class_<MorphPairs>(m, "MorphPairs", "Result of morph_pairs().")
+      .def_readonly("match", &MorphPairs::match, "the FeatureMatch (regions, points, region pairs)")
+      .def_property_readonly("pairs", [](const MorphPairs& r) { return pairs_to_numpy(r.pairs.pairs); },
+                             "(P, 2) int32 (vertex of A, vertex of B): the pairs morph() would use")
+      .def_property_readonly("scores", [](const MorphPairs& r) { return to_numpy(r.pairs.scores); })
+      .def_property_readonly("registration_cost", [](const MorphPairs& r) -> py::object {
+        return r.registration ? py::cast(r.registration->cost) : py::none();
+      }, "mean distance of the registered B from A (share of A's diagonal), or None");
+  m.def(
+      "morph_pairs",
+      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB,
+         double normal_angle, double concavity_threshold, double min_area, double spacing,
+         bool register_surfaces, double pair_distance, py::object progress) {
+        features::MatchOptions o;
+        o.regions.normal_angle = normal_angle;
+        o.regions.concavity_threshold = concavity_threshold;
+        o.regions.min_area = min_area;
+        o.points.spacing = spacing;
+        const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
+        const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] {
+          return morph::morph_pairs(va, fa, vb, fb, o, register_surfaces, {}, pair_distance, bridge.get());
+        });
+      },
+      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("normal_angle") = 40.0,
+      py::arg("concavity_threshold") = 0.02, py::arg("min_area") = 0.005, py::arg("spacing") = 0.05,
+      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("progress") = py::none(),
+      R"doc(The feature pairs morph() makes with the same options, for a preview:
+match_features, then B registered onto A in 3D and the feature points of one
+kind mutually nearest after registration (within pair_distance, share of A's
+bounding-box diagonal); without register_surfaces, the match's own point
+pairs. Returns MorphPairs: match, pairs, scores, registration_cost. Errors as
+match_features; Cancelled.)doc");
+}
+
 void bind_morph(py::module_& m) {
   def_optimize_sphere_map(m);
   def_align_sphere_map(m);
   def_morph(m);
+  def_morph_pairs(m);
 }
 
 }  // namespace paramorph::python

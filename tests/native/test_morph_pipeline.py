@@ -176,6 +176,21 @@ def test_stage_timings_and_pairs_are_reported(truth):
     assert np.asarray(m.pairs).shape[1] == 2 and not np.asarray(m.pair_is_pin).any()
 
 
+def test_preview_pairs_are_the_pairs_the_morph_uses(truth):
+    VA, FA, VB, FB, m, _ = truth
+    preview = pm.morph_pairs(VA, FA, VB, FB)
+    np.testing.assert_array_equal(preview.pairs, m.pairs)
+    assert preview.registration_cost == pytest.approx(m.registration_cost)
+    # Given back as `pairs` (as Morph To does with previewed pairs), the morph
+    # keeps the registration's targets: the same correspondence.
+    again = pm.morph(VA, FA, VB, FB, pairs=preview.pairs)
+    np.testing.assert_array_equal(again.pairs, m.pairs)
+    assert correspondence_error(VA, VB, again) == pytest.approx(correspondence_error(VA, VB, m), abs=1e-6)
+    unregistered = pm.morph_pairs(VA, FA, VB, FB, register_surfaces=False)
+    assert unregistered.registration_cost is None
+    np.testing.assert_array_equal(unregistered.pairs, unregistered.match.point_pairs)
+
+
 def test_pins_win_over_the_automatic_pairs():
     VA, FA, VB, FB = known_truth_pair()
     # Pin A's +x tip to a B vertex a little way off the truth.
