@@ -101,16 +101,18 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   std::optional<MatrixX3d> registered_target;  // B's targets from the registration
   if (o.features) {
     MorphPairs matched = stage("match features", 0.45, 0.58, progress, m.timings, [&](Progress* p) {
-      return morph_pairs(VA, FA, VB, FB, o.match, o.register_surfaces, o.registration, o.pair_distance, p);
+      return morph_pairs(VA, FA, VB, FB, o.match, o.register_surfaces, o.registration, o.pair_distance,
+                         o.max_fold_share, p);
     });
     m.match = std::move(matched.match);
     m.registration = std::move(matched.registration);
     automatic = std::move(matched.pairs.pairs);
     scores = std::move(matched.pairs.scores);
+    m.registration_fold_share = matched.fold_share;
     if (m.registration) {
       // 3. B's targets: A's optimized map at the closest points of A to the registered B.
-      const ClosestPoints on_a = ClosestPointTree(VA, FA).query(m.registration->warp(VB));
-      registered_target = positions_on(m.sphere_a, FA, on_a.face, on_a.bary).rowwise().normalized();
+      registered_target =
+          positions_on(m.sphere_a, FA, matched.on_a.face, matched.on_a.bary).rowwise().normalized();
     }
   }
   // Pairs given (e.g. edited in Preview Matches) replace the automatic ones;

@@ -59,6 +59,11 @@ struct MorphOptions {
   /// Largest distance of a feature pair after registration, as a share of
   /// A's bounding-box diagonal.
   double pair_distance = 0.03;
+  /// The registration is used only when at most this share of B's area
+  /// comes out folded when carried onto A (carried_fold_share): otherwise
+  /// the shapes are too unlike for a 3D fit (a head into an octopus) and B's
+  /// targets are its radial projection, the pairs the match's own.
+  double max_fold_share = 0.01;
   /// Width (radians) of align_sphere_map's warp when the targets come from
   /// the registration and align.warp_width is 0: the targets already follow
   /// the features, the warp only spreads the pairs' small offsets (about a
@@ -80,7 +85,8 @@ struct Morph {
   std::vector<double> pair_scores;  ///< automatic pairs: match_features' score; pins: 0
   MatrixX3d sphere_a, sphere_b;     ///< the two maps that were overlaid
   std::optional<features::FeatureMatch> match;  ///< when features were matched
-  std::optional<Registration> registration;      ///< when B was registered onto A
+  std::optional<Registration> registration;      ///< when B's registration onto A was used
+  double registration_fold_share = 0;            ///< carried_fold_share of the registration tried
   double mean_pair_error = 0;   ///< mean angle (radians) between paired points on the two maps
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
 };

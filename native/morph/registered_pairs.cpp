@@ -1,5 +1,7 @@
 #include "morph/registered_pairs.h"
 
+#include <Eigen/Geometry>
+
 #include "morph/pair_nearest_points.h"
 
 namespace paramorph::morph {
@@ -33,15 +35,40 @@ RegisteredPairs registered_pairs(const MatrixX3d& VA, const MatrixX3d& VB,
   return out;
 }
 
+double carried_fold_share(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB,
+                          const MatrixX3i& FB, const ClosestPoints& on_a) {
+  double folded = 0, total = 0;
+  for (Index f = 0; f < FB.rows(); ++f) {
+    const Eigen::Vector3d b0 = VB.row(FB(f, 0)), b1 = VB.row(FB(f, 1)), b2 = VB.row(FB(f, 2));
+    const double area = (b1 - b0).cross(b2 - b0).norm();
+    const Eigen::Vector3d q0 = on_a.points.row(FB(f, 0)), q1 = on_a.points.row(FB(f, 1)),
+                          q2 = on_a.points.row(FB(f, 2));
+    const Index fa = on_a.face[FB(f, 0)];
+    const Eigen::Vector3d a0 = VA.row(FA(fa, 0)), a1 = VA.row(FA(fa, 1)), a2 = VA.row(FA(fa, 2));
+    if ((q1 - q0).cross(q2 - q0).dot((a1 - a0).cross(a2 - a0)) <= 0) folded += area;
+    total += area;
+  }
+  return total > 0 ? folded / total : 0.0;
+}
+
 MorphPairs morph_pairs(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
                        const features::MatchOptions& match_options, bool register_surfaces,
-                       const RegisterOptions& register_options, double pair_distance, Progress* progress) {
-  MorphPairs out{features::match_features(VA, FA, VB, FB, match_options, progress),
-                 std::nullopt, {}};
+                       const RegisterOptions& register_options, double pair_distance, double max_fold_share,
+                       Progress* progress) {
+  MorphPairs out{features::match_features(VA, FA, VB, FB, match_options, progress), std::nullopt, {}, 0, {}};
   if (register_surfaces) {
-    out.registration = register_matched(VA, FA, VB, FB, out.match, register_options, progress);
-    out.pairs = registered_pairs(VA, VB, out.match, *out.registration, pair_distance);
-  } else {
+    Registration registration = register_matched(VA, FA, VB, FB, out.match, register_options, progress);
+    const MatrixX3d registered = registration.warp(VB);
+    ClosestPoints on_a = ClosestPointTree(VA, FA).query(registered);
+    out.fold_share = carried_fold_share(VA, FA, registered, FB, on_a);
+    if (out.fold_share <= max_fold_share) {
+      out.pairs = registered_pairs(VA, VB, out.match, registration, pair_distance);
+      out.registration = std::move(registration);
+      out.on_a = std::move(on_a);
+      return out;
+    }
+  }
+  {
     out.pairs.pairs = out.match.point_pairs;
     out.pairs.scores = out.match.point_scores;
   }

@@ -170,6 +170,9 @@ void def_morph(py::module_& m) {
       .def_property_readonly("registration_cost", [](const Morph& r) -> py::object {
         return r.registration ? py::cast(r.registration->cost) : py::none();
       }, "mean distance of the registered B from A (share of A's diagonal), or None")
+      .def_readonly("registration_fold_share", &Morph::registration_fold_share,
+                    "share of B's area folded when carried onto A by the registration tried "
+                    "(over max_fold_share: the registration was not used)")
       .def_property_readonly("sphere_a", [](const Morph& r) { return to_numpy(r.sphere_a); })
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
       .def_property_readonly("match", [](const Morph& r) -> py::object {
@@ -202,8 +205,10 @@ through the corner barycentric coordinates.)doc")
          const py::object& pairs, const py::object& pins, double epsilon, int max_iterations, double pin_weight,
          double pin_radius, double feature_weight, double normal_angle, double concavity_threshold,
          double min_area, double spacing, double merge_tolerance, const py::object& sphere_a,
-         const py::object& sphere_b, bool register_surfaces, double pair_distance, py::object progress) {
+         const py::object& sphere_b, bool register_surfaces, double pair_distance, double max_fold_share,
+         py::object progress) {
         morph::MorphOptions o;
+        o.max_fold_share = max_fold_share;
         o.features = features;
         o.register_surfaces = register_surfaces;
         o.pair_distance = pair_distance;
@@ -232,7 +237,8 @@ through the corner barycentric coordinates.)doc")
       py::arg("feature_weight") = 50.0, py::arg("normal_angle") = 40.0, py::arg("concavity_threshold") = 0.02,
       py::arg("min_area") = 0.005, py::arg("spacing") = 0.05, py::arg("merge_tolerance") = 1e-6,
       py::arg("sphere_a") = py::none(), py::arg("sphere_b") = py::none(),
-      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("progress") = py::none(),
+      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("max_fold_share") = 0.01,
+      py::arg("progress") = py::none(),
       R"doc(Feature-based morph of closed genus-0 mesh A into B (thesis ch. 4): both
 sphere-mapped, A's map optimized (4.3.3), features matched (4.5; off with
 features=False, or `pairs` (k, 2) given instead), B's map aligned to A's
@@ -240,7 +246,9 @@ paired features ((4.12), fold constraints), the maps overlaid (4.4).
 With features, B is first registered onto A in 3D (register_surfaces=True:
 polynomial point-to-plane ICP); B's targets are then A's map at the closest
 points of A, and the pairs are the feature points mutually nearest after
-registration, within pair_distance (share of A's bounding-box diagonal).
+registration, within pair_distance (share of A's bounding-box diagonal);
+when more than max_fold_share of B's area folds when carried onto A by the
+registration (shapes too unlike for a 3D fit), it is not used.
 pins: (k, 2) user pairs, always used and winning over automatic pairs on or
 within pin_radius (radians) of their vertices. sphere_a / sphere_b: fold-free
 sphere maps already at hand.
@@ -260,12 +268,14 @@ void def_morph_pairs(py::module_& m) {
       .def_property_readonly("scores", [](const MorphPairs& r) { return to_numpy(r.pairs.scores); })
       .def_property_readonly("registration_cost", [](const MorphPairs& r) -> py::object {
         return r.registration ? py::cast(r.registration->cost) : py::none();
-      }, "mean distance of the registered B from A (share of A's diagonal), or None");
+      }, "mean distance of the registered B from A (share of A's diagonal), or None")
+      .def_readonly("fold_share", &MorphPairs::fold_share,
+                    "share of B's area folded when carried onto A by the registration tried");
   m.def(
       "morph_pairs",
       [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB,
          double normal_angle, double concavity_threshold, double min_area, double spacing,
-         bool register_surfaces, double pair_distance, py::object progress) {
+         bool register_surfaces, double pair_distance, double max_fold_share, py::object progress) {
         features::MatchOptions o;
         o.regions.normal_angle = normal_angle;
         o.regions.concavity_threshold = concavity_threshold;
@@ -275,17 +285,21 @@ void def_morph_pairs(py::module_& m) {
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] {
-          return morph::morph_pairs(va, fa, vb, fb, o, register_surfaces, {}, pair_distance, bridge.get());
+          return morph::morph_pairs(va, fa, vb, fb, o, register_surfaces, {}, pair_distance, max_fold_share,
+                                    bridge.get());
         });
       },
       py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("normal_angle") = 40.0,
       py::arg("concavity_threshold") = 0.02, py::arg("min_area") = 0.005, py::arg("spacing") = 0.05,
-      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("progress") = py::none(),
+      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("max_fold_share") = 0.01,
+      py::arg("progress") = py::none(),
       R"doc(The feature pairs morph() makes with the same options, for a preview:
 match_features, then B registered onto A in 3D and the feature points of one
 kind mutually nearest after registration (within pair_distance, share of A's
-bounding-box diagonal); without register_surfaces, the match's own point
-pairs. Returns MorphPairs: match, pairs, scores, registration_cost. Errors as
+bounding-box diagonal); without register_surfaces, or when more than
+max_fold_share of B's area folds when carried onto A (shapes too unlike for
+a 3D fit), the match's own point pairs. Returns MorphPairs: match, pairs,
+scores, registration_cost (None when not used), fold_share. Errors as
 match_features; Cancelled.)doc");
 }
 

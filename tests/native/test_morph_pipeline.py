@@ -179,6 +179,7 @@ def test_stage_timings_and_pairs_are_reported(truth):
 def test_preview_pairs_are_the_pairs_the_morph_uses(truth):
     VA, FA, VB, FB, m, _ = truth
     preview = pm.morph_pairs(VA, FA, VB, FB)
+    assert preview.fold_share < 0.01 and m.registration_fold_share == pytest.approx(preview.fold_share)
     np.testing.assert_array_equal(preview.pairs, m.pairs)
     assert preview.registration_cost == pytest.approx(m.registration_cost)
     # Given back as `pairs` (as Morph To does with previewed pairs), the morph
@@ -189,6 +190,23 @@ def test_preview_pairs_are_the_pairs_the_morph_uses(truth):
     unregistered = pm.morph_pairs(VA, FA, VB, FB, register_surfaces=False)
     assert unregistered.registration_cost is None
     np.testing.assert_array_equal(unregistered.pairs, unregistered.match.point_pairs)
+
+
+def test_registration_is_left_out_for_unlike_shapes():
+    # A bumpy ball into a ball with long tentacles: a 3D fit squeezes the
+    # tentacles onto the ball (small closest-point cost, carried map folds),
+    # so the morph falls back to B's radial projection and the match's pairs.
+    PA, FA = meshes.icosphere(3)
+    VA = bumpy(PA)
+    VB, FB = meshes.tentacle_sphere(3)
+    unlike = pm.morph_pairs(VA, FA, VB, FB)
+    assert unlike.fold_share > 0.01 and unlike.registration_cost is None
+    np.testing.assert_array_equal(unlike.pairs, unlike.match.point_pairs)
+    forced = pm.morph_pairs(VA, FA, VB, FB, max_fold_share=1.0)
+    assert forced.registration_cost is not None and forced.fold_share == pytest.approx(unlike.fold_share)
+    m = pm.morph(VA, FA, VB, FB)
+    assert m.registration_cost is None and m.registration_fold_share == pytest.approx(unlike.fold_share)
+    assert pm.validate(np.asarray(m.target), np.asarray(m.faces)).boundary_loops == 0
 
 
 def test_pins_win_over_the_automatic_pairs():
