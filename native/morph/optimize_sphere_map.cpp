@@ -314,7 +314,15 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   if (!problem->solution().empty()) {
     MatrixX3d solved = Eigen::Map<const MatrixX3d>(problem->solution().data(), V.rows(), 3);
     solved.rowwise().normalize();  // on the sphere to rounding, exactly
-    if (face_triple_products(solved, F).minCoeff() > -kRoundoff) result.positions = solved;
+    // Ipopt's last point replaces the start only if it leaves no more faces at
+    // or below 0 than the start had: a failed run (e.g. Restoration_Failed on
+    // a 51k-face Suzanne) can end with a face at -1e-14..0, which the barrier's
+    // strictly feasible point does not have.
+    const VectorXd solved_det = face_triple_products(solved, F);
+    const auto at_or_below_zero = [](const VectorXd& d) { return (d.array() <= 0).count(); };
+    if (solved_det.minCoeff() > -kRoundoff &&
+        at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)))
+      result.positions = solved;
   }
   const VectorXd det = face_triple_products(result.positions, F);
   result.min_triple = det.minCoeff();
