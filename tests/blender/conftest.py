@@ -30,6 +30,16 @@ import pytest  # noqa: E402
 
 
 @pytest.fixture
+def empty_scene():
+    """Factory settings with no objects, before and after the test (the
+    tests that run scripts in a fresh Blender start from and leave this)."""
+    import bpy
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    yield
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+
+
+@pytest.fixture
 def addon_scene():
     """An empty scene with the add-on enabled as a user enables it."""
     import addon_utils

@@ -21,10 +21,7 @@ BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "pyth
 ADDON = os.path.join(REPO, "addon", "paramorph")
 
 
-@pytest.fixture(autouse=True)
-def empty_scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    yield
+pytestmark = pytest.mark.usefixtures("empty_scene")
 
 
 @pytest.fixture(scope="module")

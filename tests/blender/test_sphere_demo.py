@@ -9,10 +9,7 @@ import make_samples
 from paramorph import bridge
 
 
-@pytest.fixture(autouse=True)
-def empty_scene():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    yield
+pytestmark = pytest.mark.usefixtures("empty_scene")
 
 
 def test_addon_enables_like_a_user_does():
