@@ -181,8 +181,8 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
              "sphere must be a finite (", V.rows(), ", 3) array, one point per vertex");
   PM_REQUIRE(std::isfinite(o.epsilon) && o.epsilon > 0 && o.epsilon < 1, InvalidInputError,
              "epsilon is a share of the mean face triple product in (0, 1), got ", o.epsilon);
-  PM_REQUIRE(o.max_iterations > 0 && std::isfinite(o.tol) && o.tol > 0, InvalidInputError,
-             "max_iterations and tol must be positive");
+  PM_REQUIRE(o.max_iterations > 0 && o.polish_iterations > 0 && std::isfinite(o.tol) && o.tol > 0,
+             InvalidInputError, "max_iterations, polish_iterations and tol must be positive");
   VectorXd weights = VectorXd::Ones(V.rows());
   if (o.weights) {
     weights = *o.weights;
@@ -280,7 +280,8 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
-  app->Options()->SetIntegerValue("max_iter", o.max_iterations);
+  const int ipopt_iterations = warm ? std::min(o.max_iterations, o.polish_iterations) : o.max_iterations;
+  app->Options()->SetIntegerValue("max_iter", ipopt_iterations);
   app->Options()->SetNumericValue("tol", o.tol);
   app->Options()->SetStringValue("linear_solver", "mumps");
   // Measured on spot (5.9k faces), cold: the monotone barrier converges in
@@ -303,7 +304,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   }
   PM_REQUIRE(app->Initialize() == Ipopt::Solve_Succeeded, ComputeError, "Ipopt did not initialise");
   Ipopt::SmartPtr<SphereMapTnlp> problem = new SphereMapTnlp(
-      nlp, start, multipliers, result.epsilon, o.max_iterations,
+      nlp, start, multipliers, result.epsilon, ipopt_iterations,
       ProgressWindow(progress, warm ? 0.6 : 0.0, 1.0));
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(problem);
   if (problem->cancelled()) throw Cancelled();
@@ -320,8 +321,11 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     // strictly feasible point does not have.
     const VectorXd solved_det = face_triple_products(solved, F);
     const auto at_or_below_zero = [](const VectorXd& d) { return (d.array() <= 0).count(); };
+    // After a warm start, also no worse than the barrier's point (Ipopt may
+    // stop early, at its iteration cap or a failure, below where it began).
     if (solved_det.minCoeff() > -kRoundoff &&
-        at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)))
+        at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)) &&
+        (!warm || nlp.objective(solved.data()) <= nlp.objective(start.data())))
       result.positions = solved;
   }
   const VectorXd det = face_triple_products(result.positions, F);

@@ -33,6 +33,13 @@ struct OptimizeSphereOptions {
   /// start's smallest when the start is tighter, so the start is feasible.
   double epsilon = 0.05;
   int max_iterations = 200;
+  /// Ipopt iterations allowed after the barrier warm start (also capped by
+  /// max_iterations). Warm-started runs converge in 3-10 (spot, 20k-face
+  /// meshes); where Ipopt cannot finish from there (a 51k-face Suzanne:
+  /// Restoration_Failed after 112 iterations, 380 s, objective no better than
+  /// the barrier's, which was within 1e-4 relative of the bound n), the
+  /// barrier's point is kept (status says Ipopt's outcome).
+  int polish_iterations = 15;
   double tol = 1e-6;  ///< Ipopt's convergence tolerance (the thesis used 1e-6)
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
   /// centroid when absent.

@@ -102,6 +102,23 @@ TEST(OptimizeSphereMap, StaysFoldFreeAndMovesTowardsTheProjection) {
   EXPECT_TRUE(r.status == "Solve_Succeeded" || r.status == "Solved_To_Acceptable_Level") << r.status;
 }
 
+TEST(OptimizeSphereMap, PolishIterationsCapIpoptAfterTheWarmStartAndKeepTheBetterPoint) {
+  auto [V, F] = test_meshes::lumpy_blob(2);
+  const MatrixX3d sphere = spherical::sphere_map(V, F).positions;
+  const OptimizeSphereResult full = optimize_sphere_map(V, F, sphere);
+  OptimizeSphereOptions o;
+  o.polish_iterations = 1;
+  const OptimizeSphereResult capped = optimize_sphere_map(V, F, sphere, o);
+  ASSERT_GT(capped.barrier_steps, 0);  // warm started: the cap applies
+  EXPECT_LE(capped.iterations, 1);
+  EXPECT_EQ(capped.flipped, 0);
+  // The barrier's point already sits near the optimum; Ipopt only polishes.
+  EXPECT_GT(capped.objective, capped.start_objective);
+  EXPECT_NEAR(capped.objective, full.objective, 1e-3 * full.objective);
+  o.polish_iterations = 0;
+  EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
+}
+
 TEST(OptimizeSphereMap, AConvexMeshGoesToItsRadialProjection) {
   auto [V, F] = test_meshes::icosphere(2);
   V.col(0) *= 1.6;  // an ellipsoid: star-shaped, its radial projection folds nothing
