@@ -9,7 +9,9 @@
 //      point-to-plane ICP from the match's similarity and from the objects'
 //      own placement); B's targets are A's map at the closest points of A
 //      to the registered B, and the pairs are the mutually nearest feature
-//      points after registration (registered_pairs);
+//      points after registration (registered_pairs) — unless the carried map
+//      folds (shapes too unlike for a 3D fit: max_fold_share), then B's
+//      radial projection and the match's pairs;
 //   4. optimize B's map towards its targets (its own radial projection
 //      without features) and A's paired features (align_sphere_map,
 //      (4.12) with the fold constraints);
