@@ -40,6 +40,10 @@ struct OptimizeSphereOptions {
   /// the barrier's, which was within 1e-4 relative of the bound n), the
   /// barrier's point is kept (status says Ipopt's outcome).
   int polish_iterations = 15;
+  /// Start Ipopt from the log-barrier path (sphere_map_barrier) when no face
+  /// of the start is squeezed to rounding; false: Ipopt alone from the
+  /// start, as in the thesis (for comparison: spot 100 iterations, 8 s).
+  bool warm_start = true;
   double tol = 1e-6;  ///< Ipopt's convergence tolerance (the thesis used 1e-6)
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
   /// centroid when absent.

@@ -117,6 +117,13 @@ TEST(OptimizeSphereMap, PolishIterationsCapIpoptAfterTheWarmStartAndKeepTheBette
   EXPECT_NEAR(capped.objective, full.objective, 1e-3 * full.objective);
   o.polish_iterations = 0;
   EXPECT_THROW(optimize_sphere_map(V, F, sphere, o), InvalidInputError);
+  // Without the warm start: Ipopt alone, to the same optimum.
+  OptimizeSphereOptions cold;
+  cold.warm_start = false;
+  const OptimizeSphereResult alone = optimize_sphere_map(V, F, sphere, cold);
+  EXPECT_EQ(alone.barrier_steps, 0);
+  EXPECT_EQ(alone.flipped, 0);
+  EXPECT_NEAR(alone.objective, full.objective, 1e-4 * full.objective);
 }
 
 TEST(OptimizeSphereMap, AConvexMeshGoesToItsRadialProjection) {
