@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import blender_subprocess
+from image_pixels import image_rgb
 import make_samples
 from paramorph import uv_patch
 
@@ -30,14 +31,9 @@ def test_pinned_disc_sample_pins_the_active_uv_layer():
 def saturated_hues(path):
     """Image size, share of strongly coloured pixels, and their hue histogram
     (12 bins of 30 degrees)."""
-    image = bpy.data.images.load(path)
-    try:
-        width, height = image.size
-        pixels = np.empty(4 * width * height, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    rgb = pixels.reshape(-1, 4)[:, :3].astype(np.float64)
+    image = image_rgb(path)
+    height, width = image.shape[:2]
+    rgb = image.reshape(-1, 3)
     high, low = rgb.max(axis=1), rgb.min(axis=1)
     strong = (high > 0.25) & ((high - low) > 0.45 * high)
     r, g, b = rgb[strong].T

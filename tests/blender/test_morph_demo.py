@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import blender_subprocess
+from image_pixels import image_rgb
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEMO = os.path.join(REPO, "scripts", "demo_morph.py")
@@ -20,14 +21,7 @@ pytestmark = pytest.mark.usefixtures("empty_scene")
 def silhouette(path):
     """Boolean mask of the pixels that differ from the render's background
     (the corner pixel's colour)."""
-    image = bpy.data.images.load(path)
-    try:
-        width, height = image.size
-        pixels = np.empty(4 * width * height, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    rgb = pixels.reshape(height, width, 4)[:, :, :3]
+    rgb = image_rgb(path)
     return np.abs(rgb - rgb[0, 0]).max(axis=2) > 0.05
 
 
