@@ -304,6 +304,29 @@ def box(cells=4, half_extents=(1.0, 1.0, 1.0)):
     return V, weld.reshape(-1, 3).astype(np.int32)
 
 
+def _welded_patches(patches, box, k, alternate_diagonals=False):
+    """Triangulates integer-lattice rectangle patches (origin, du, dv, nu, nv,
+    skip-cell test; outward normal du x dv), two triangles per cell (with
+    alternate_diagonals, every other cell split along its other diagonal),
+    welds equal corners and centres the box (nx, ny, nz) cells / k."""
+    corners = []
+    for origin, du, dv, nu, nv, skip in patches:
+        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+        i, j = i.ravel(), j.ravel()
+        p00 = origin + np.outer(i, du) + np.outer(j, dv)
+        if skip is not None:
+            keep = ~skip(p00)
+            i, j, p00 = i[keep], j[keep], p00[keep]
+        p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
+        other = ((i + j) % 2 == 1)[:, None, None] if alternate_diagonals else False
+        corners += [np.where(other, np.stack([p00, p10, p01], 1), np.stack([p00, p10, p11], 1)),
+                    np.where(other, np.stack([p10, p11, p01], 1), np.stack([p00, p11, p01], 1))]
+    lattice = np.concatenate(corners)                      # (m, 3 corners, 3 coords), integers
+    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
+    V = (unique - np.array(box) / 2.0) / k
+    return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+
+
 def cad_box(cells_per_unit=8, boss_height=0.25):
     """A CAD-like part: a 2 x 1.4 x 1 box with a rectangular boss standing
     `boss_height` on its top face. Every face is planar and axis-aligned, all
@@ -330,20 +353,7 @@ def cad_box(cells_per_unit=8, boss_height=0.25):
         (bx0 * X + by0 * Y + nz * Z, Z, Y, bh, by1 - by0, None),                # boss left
         (bx1 * X + by0 * Y + nz * Z, Y, Z, by1 - by0, bh, None),                # boss right
     ]
-    corners = []
-    for origin, du, dv, nu, nv, skip in patches:
-        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
-        i, j = i.ravel(), j.ravel()
-        p00 = origin + np.outer(i, du) + np.outer(j, dv)
-        if skip is not None:
-            keep = ~skip(p00)
-            i, j, p00 = i[keep], j[keep], p00[keep]
-        p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
-        corners += [np.stack([p00, p10, p11], 1), np.stack([p00, p11, p01], 1)]
-    lattice = np.concatenate(corners)                      # (m, 3 corners, 3 coords), integers
-    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
-    V = (unique - np.array([nx, ny, nz]) / 2.0) / k
-    return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+    return _welded_patches(patches, (nx, ny, nz), k)
 
 
 def two_boss_part(cells_per_unit=8, alternate_diagonals=False):
@@ -374,22 +384,7 @@ def two_boss_part(cells_per_unit=8, alternate_diagonals=False):
         (s0, X, Z, sh, sz1 - sz0, None), (s0 + (sy1 - sy0) * Y, Z, X, sz1 - sz0, sh, None),
         (s0, Y, X, sy1 - sy0, sh, None), (s0 + (sz1 - sz0) * Z, X, Y, sh, sy1 - sy0, None),
     ]
-    corners = []
-    for origin, du, dv, nu, nv, skip in patches:
-        i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
-        i, j = i.ravel(), j.ravel()
-        p00 = origin + np.outer(i, du) + np.outer(j, dv)
-        if skip is not None:
-            keep = ~skip(p00)
-            i, j, p00 = i[keep], j[keep], p00[keep]
-        p10, p11, p01 = p00 + du, p00 + du + dv, p00 + dv
-        other = ((i + j) % 2 == 1)[:, None, None] if alternate_diagonals else False
-        corners += [np.where(other, np.stack([p00, p10, p01], 1), np.stack([p00, p10, p11], 1)),
-                    np.where(other, np.stack([p10, p11, p01], 1), np.stack([p00, p11, p01], 1))]
-    lattice = np.concatenate(corners)
-    unique, weld = np.unique(lattice.reshape(-1, 3), axis=0, return_inverse=True)
-    V = (unique - np.array([nx, ny, nz]) / 2.0) / k
-    return V.astype(np.float64), weld.reshape(-1, 3).astype(np.int32)
+    return _welded_patches(patches, (nx, ny, nz), k, alternate_diagonals)
 
 
 BUMPS_AND_PITS = [  # (direction, angular width in radians, radial height): > 0 bump, < 0 pit
