@@ -179,6 +179,14 @@ def set_up_render(scene, path, resolution):
     scene.render.filepath = path
 
 
+def render_still(scene, png):
+    """Renders the scene's current frame to `png`; RuntimeError when no file came out."""
+    scene.render.filepath = png
+    bpy.ops.render.render(write_still=True)
+    if not os.path.isfile(png) or os.path.getsize(png) == 0:
+        raise RuntimeError(f"the render wrote no {png}")
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="demo_blender.py")
@@ -209,9 +217,7 @@ def main():
     set_up_render(scene, png, args.resolution)
     bpy.ops.wm.save_as_mainfile(filepath=blend, check_existing=False)
     print(f"demo: wrote {blend}", flush=True)
-    bpy.ops.render.render(write_still=True)
-    if not os.path.isfile(png) or os.path.getsize(png) == 0:
-        raise RuntimeError(f"the render wrote no {png}")
+    render_still(scene, png)
     print(f"demo: wrote {png} ({args.resolution[0]}x{args.resolution[1]}, Workbench)", flush=True)
 
 

@@ -69,10 +69,7 @@ def main():
     for frame in frames:
         scene.frame_set(frame)
         png = os.path.join(out_dir, f"morph_{frame:04d}.png")
-        scene.render.filepath = png
-        bpy.ops.render.render(write_still=True)
-        if not os.path.isfile(png) or os.path.getsize(png) == 0:
-            raise RuntimeError(f"the render wrote no {png}")
+        demo_blender.render_still(scene, png)
         print(f"demo: wrote {png} (frame {frame})", flush=True)
 
 
