@@ -8,7 +8,6 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
-#include "morph/closest_points.h"
 #include "morph/radial_projection.h"
 #include "morph/registered_pairs.h"
 #include "param/spherical/sphere_map.h"
