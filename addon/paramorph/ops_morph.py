@@ -246,10 +246,12 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, bpy.types.Operator):
         VA, FA, tri_poly, tri_loops = _arrays(context, source)
         VB, FB, _, _ = _arrays(context, target)
         options = {"features": self.use_features, "epsilon": self.epsilon}
-        for name, (V, F) in (("sphere_a", (VA, FA)), ("sphere_b", (VB, FB))):
-            cached = sphere_cache.get(sphere_cache.key(V, F, "conformal"))
-            if cached is not None:  # Sphere Map just ran on this geometry
-                options[name] = cached
+        # The source's start is native.morph's own choice (the conformal map,
+        # or the relaxed radial projection where that squeezes long parts),
+        # so a cached conformal map is only reused for the target.
+        cached = sphere_cache.get(sphere_cache.key(VB, FB, "conformal"))
+        if cached is not None:  # Sphere Map just ran on the target's geometry
+            options["sphere_b"] = cached
         matches = stored_matches(context, source, target) if self.use_preview else None
         if matches is not None:
             pairs = np.array([(p.vertex_a, p.vertex_b) for p in matches.pairs if not p.pin], dtype=np.int32)

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "morph/optimization_start.h"
 #include "morph/radial_projection.h"
 #include "morph/registered_pairs.h"
 #include "param/spherical/sphere_map.h"
@@ -67,18 +68,19 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   Morph m;
   if (progress) progress->report(0.0, "morph");
 
-  // 1. Sphere maps; A's optimized for morphing.
+  // 1. Sphere maps; A's optimized for morphing, from optimization_start
+  // (the conformal map, or the relaxed radial projection where that squeezes).
   auto sphere_of = [&](const MatrixX3d& V, const MatrixX3i& F, const std::optional<MatrixX3d>& given,
-                       const char* which, double lo, double hi) {
+                       const char* which, bool for_optimization, double lo, double hi) {
     if (given) return *given;
     return for_mesh(which, [&] {
       return stage(std::string("sphere map ") + which, lo, hi, progress, m.timings, [&](Progress* p) {
-        return spherical::sphere_map(V, F, {}, p).positions;
+        return for_optimization ? optimization_start(V, F, p) : spherical::sphere_map(V, F, {}, p).positions;
       });
     });
   };
-  const MatrixX3d start_a = sphere_of(VA, FA, o.sphere_a, "A", 0.0, 0.08);
-  const MatrixX3d start_b = sphere_of(VB, FB, o.sphere_b, "B", 0.08, 0.16);
+  const MatrixX3d start_a = sphere_of(VA, FA, o.sphere_a, "A", true, 0.0, 0.08);
+  const MatrixX3d start_b = sphere_of(VB, FB, o.sphere_b, "B", false, 0.08, 0.16);
 
   OptimizeSphereOptions optimize;
   optimize.epsilon = o.epsilon;

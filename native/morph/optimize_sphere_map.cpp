@@ -247,15 +247,12 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // (1.5 s) and 4 Ipopt iterations (0.5 s) against 100 cold Ipopt iterations
   // (8 s); stopping the path a decade earlier left Ipopt 21-24 iterations
   // (3.2 s), starting it 1 or 2 decades higher changed little (56, 91 steps).
-  // A start with faces squeezed to rounding (long protrusions in a conformal
-  // map, e.g. tentacle_sphere) is left to Ipopt alone: the barrier opens such
-  // faces only gradually and leaves them under epsilon, so Ipopt still needs
-  // its full run after it (tentacle_sphere(3): 139 steps + 196 iterations,
-  // 17 s, against 41 iterations, 2.4 s, cold).
-  const bool warm = o.warm_start && start_det.minCoeff() > 2 * kRoundoff;
+  // A start with faces squeezed to rounding is opened first (see
+  // sphere_map_barrier); if the barrier's steps run out before its path
+  // begins, Ipopt starts cold from the point reached, with all its iterations.
   SphereBarrierResult barrier;
   VectorXd multipliers;
-  if (warm) {
+  if (o.warm_start) {
     const double pull_scale = pull.rowwise().norm().mean();
     SphereBarrierOptions barrier_options;
     barrier_options.epsilon = result.epsilon;
@@ -264,6 +261,9 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     barrier = sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
     start = barrier.positions;
     result.barrier_steps = barrier.steps;
+  }
+  const bool warm = barrier.rounds > 0;  // on the barrier's path: Ipopt starts from it
+  if (warm) {
     // Ipopt's multipliers on the barrier's central path: y_f = -mu / (det_f - b_f)
     // for the faces and, from the radial part of stationarity,
     // lambda_i = (p_i . v_i - sum_f y_f det_f) / 2 for the spheres.
@@ -278,60 +278,70 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     }
   }
 
-  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-  app->Options()->SetIntegerValue("print_level", 0);
-  app->Options()->SetStringValue("sb", "yes");
-  // Ipopt only polishes a barrier point that already meets every bound (4.10)
-  // at epsilon; where the path left faces below it (squeezed starts open
-  // gradually), Ipopt gets all its iterations to finish opening them.
-  const bool polish = warm && (barrier.bounds.array() >= result.epsilon).all();
-  const int ipopt_iterations = polish ? std::min(o.max_iterations, o.polish_iterations) : o.max_iterations;
-  app->Options()->SetIntegerValue("max_iter", ipopt_iterations);
-  app->Options()->SetNumericValue("tol", o.tol);
-  app->Options()->SetStringValue("linear_solver", "mumps");
-  // Measured on spot (5.9k faces), cold: the monotone barrier converges in
-  // 100 iterations where the adaptive one, lowering mu early, cuts its steps
-  // at folds and has not converged after 300. Per iteration on 5.8k faces:
-  // METIS ordering 0.14 s, Ipopt's automatic choice 0.25 s, PORD 0.19 s;
-  // MUMPS's default 1000% workspace over-allocation costs a third more than
-  // 5% (Ipopt grows it on demand).
-  app->Options()->SetStringValue("mu_strategy", "monotone");
-  app->Options()->SetIntegerValue("mumps_pivot_order", 5);
-  app->Options()->SetIntegerValue("mumps_mem_percent", 5);
-  if (warm) {
-    // Ipopt's default pushes (1e-3, absolute) would move every slack far
-    // from triple products of 1e-8..1e-3 and undo the warm start.
-    app->Options()->SetStringValue("warm_start_init_point", "yes");
-    app->Options()->SetNumericValue("mu_init", barrier.mu);
-    app->Options()->SetNumericValue("warm_start_slack_bound_push", 1e-3 * result.epsilon);
-    app->Options()->SetNumericValue("warm_start_slack_bound_frac", 1e-3);
-    app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-3 * barrier.mu);
-  }
-  PM_REQUIRE(app->Initialize() == Ipopt::Solve_Succeeded, ComputeError, "Ipopt did not initialise");
-  Ipopt::SmartPtr<SphereMapTnlp> problem = new SphereMapTnlp(
-      nlp, start, multipliers, result.epsilon, ipopt_iterations,
-      ProgressWindow(progress, warm ? 0.6 : 0.0, 1.0));
-  const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(problem);
-  if (problem->cancelled()) throw Cancelled();
-  result.status = status_name(status);
-  result.iterations = problem->iterations();
-
   result.positions = start;
-  if (!problem->solution().empty()) {
-    MatrixX3d solved = Eigen::Map<const MatrixX3d>(problem->solution().data(), V.rows(), 3);
-    solved.rowwise().normalize();  // on the sphere to rounding, exactly
-    // Ipopt's last point replaces the start only if it leaves no more faces at
-    // or below 0 than the start had: a failed run (e.g. Restoration_Failed on
-    // a 51k-face Suzanne) can end with a face at -1e-14..0, which the barrier's
-    // strictly feasible point does not have.
-    const VectorXd solved_det = face_triple_products(solved, F);
-    const auto at_or_below_zero = [](const VectorXd& d) { return (d.array() <= 0).count(); };
-    // After a polish, also no worse than the barrier's point (Ipopt may stop
-    // early, at its iteration cap or a failure, below where it began).
-    if (solved_det.minCoeff() > -kRoundoff &&
-        at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)) &&
-        (!polish || nlp.objective(solved.data()) <= nlp.objective(start.data())))
-      result.positions = solved;
+  if (warm && !barrier.centred) {
+    // The path's last round stopped at its step cap, away from the centre:
+    // Ipopt did not finish from such points within polish_iterations
+    // (tentacle_sphere 0.9k-62.7k faces, the closed bunny: every run ended
+    // Maximum_Iterations_Exceeded and took about as long as the barrier).
+    // The barrier's point stands: every face above epsilon.
+    result.status = "Barrier_Point";
+  } else {
+    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+    app->Options()->SetIntegerValue("print_level", 0);
+    app->Options()->SetStringValue("sb", "yes");
+    // From the barrier's path (every face above epsilon) Ipopt only polishes.
+    const bool polish = warm;
+    const int ipopt_iterations = polish ? std::min(o.max_iterations, o.polish_iterations) : o.max_iterations;
+    app->Options()->SetIntegerValue("max_iter", ipopt_iterations);
+    app->Options()->SetNumericValue("tol", o.tol);
+    app->Options()->SetStringValue("linear_solver", "mumps");
+    // Measured on spot (5.9k faces), cold: the monotone barrier converges in
+    // 100 iterations where the adaptive one, lowering mu early, cuts its steps
+    // at folds and has not converged after 300. Per iteration on 5.8k faces:
+    // METIS ordering 0.14 s, Ipopt's automatic choice 0.25 s, PORD 0.19 s;
+    // MUMPS's default 1000% workspace over-allocation costs a third more than
+    // 5% (Ipopt grows it on demand).
+    app->Options()->SetStringValue("mu_strategy", "monotone");
+    app->Options()->SetIntegerValue("mumps_pivot_order", 5);
+    app->Options()->SetIntegerValue("mumps_mem_percent", 5);
+    if (warm) {
+      // Ipopt's default pushes (1e-3, absolute) would move every slack far
+      // from triple products of 1e-8..1e-3 and undo the warm start.
+      app->Options()->SetStringValue("warm_start_init_point", "yes");
+      app->Options()->SetNumericValue("mu_init", barrier.mu);
+      app->Options()->SetNumericValue("warm_start_slack_bound_push", 1e-3 * result.epsilon);
+      app->Options()->SetNumericValue("warm_start_slack_bound_frac", 1e-3);
+      app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-3 * barrier.mu);
+    }
+    PM_REQUIRE(app->Initialize() == Ipopt::Solve_Succeeded, ComputeError, "Ipopt did not initialise");
+    Ipopt::SmartPtr<SphereMapTnlp> problem = new SphereMapTnlp(
+        nlp, start, multipliers, result.epsilon, ipopt_iterations,
+        ProgressWindow(progress, warm ? 0.6 : 0.0, 1.0));
+    const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(problem);
+    if (problem->cancelled()) throw Cancelled();
+    result.status = status_name(status);
+    result.iterations = problem->iterations();
+
+    if (!problem->solution().empty()) {
+      MatrixX3d solved = Eigen::Map<const MatrixX3d>(problem->solution().data(), V.rows(), 3);
+      solved.rowwise().normalize();  // on the sphere to rounding, exactly
+      // Ipopt's last point replaces the start only if it leaves no more faces at
+      // or below 0 than the start had: a failed run (e.g. Restoration_Failed on
+      // a 51k-face Suzanne) can end with a face at -1e-14..0, which the barrier's
+      // strictly feasible point does not have.
+      const VectorXd solved_det = face_triple_products(solved, F);
+      const auto at_or_below_zero = [](const VectorXd& d) { return (d.array() <= 0).count(); };
+      // After a polish, also no worse than the barrier's point, which has every
+      // face above epsilon: Ipopt may stop early (iteration cap, failure) below
+      // where it began, or with faces under epsilon by its own absolute
+      // tolerance (a 51k-face Suzanne: 0.38 epsilon after 15 iterations).
+      const bool no_worse = !polish || (nlp.objective(solved.data()) <= nlp.objective(start.data()) &&
+                                        solved_det.minCoeff() >= 0.9 * result.epsilon);
+      if (solved_det.minCoeff() > -kRoundoff &&
+          at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)) && no_worse)
+        result.positions = solved;
+    }
   }
   const VectorXd det = face_triple_products(result.positions, F);
   result.min_triple = det.minCoeff();

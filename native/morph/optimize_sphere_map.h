@@ -16,7 +16,9 @@
 // refused, so Ipopt shortens the step: every accepted iterate is fold-free.
 // Ipopt starts warm from morph/sphere_map_barrier (the same problem with the
 // bounds as a log barrier, followed down a short path of mu by Newton steps
-// on the spheres), where the start allows it.
+// on the spheres, after opening any faces the start squeezes to rounding).
+// The start matters: morph/optimization_start picks the conformal map or,
+// where that squeezes long parts, the thesis' relaxed radial projection.
 #pragma once
 
 #include <optional>
@@ -40,9 +42,9 @@ struct OptimizeSphereOptions {
   /// the barrier's, which was within 1e-4 relative of the bound n), the
   /// barrier's point is kept (status says Ipopt's outcome).
   int polish_iterations = 15;
-  /// Start Ipopt from the log-barrier path (sphere_map_barrier) when no face
-  /// of the start is squeezed to rounding; false: Ipopt alone from the
-  /// start, as in the thesis (for comparison: spot 100 iterations, 8 s).
+  /// Start Ipopt from the log-barrier path (sphere_map_barrier); false:
+  /// Ipopt alone from the start, as in the thesis (for comparison: spot 100
+  /// iterations, 8 s).
   bool warm_start = true;
   double tol = 1e-6;  ///< Ipopt's convergence tolerance (the thesis used 1e-6)
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
@@ -56,14 +58,17 @@ struct OptimizeSphereOptions {
 
 struct OptimizeSphereResult {
   MatrixX3d positions;        ///< #V by 3 unit vectors, fold-free
-  int iterations = 0;         ///< Ipopt's iterations
+  int iterations = 0;         ///< Ipopt's iterations (0 when Ipopt was not run)
   int barrier_steps = 0;      ///< Newton steps of the log-barrier warm start (0: Ipopt alone)
   double objective = 0;       ///< sum_i w_i v_i^0 . v_i at the end (sum_i w_i at best)
   double start_objective = 0;
   double epsilon = 0;         ///< the absolute bound used
   double min_triple = 0;      ///< smallest face triple product at the end (>= epsilon to Ipopt's tolerance)
   Index flipped = 0;          ///< faces with a triple product <= 0 (0 on success)
-  std::string status;         ///< Ipopt's return status, e.g. "Solve_Succeeded"
+  /// Ipopt's return status, e.g. "Solve_Succeeded"; "Barrier_Point" where the
+  /// barrier path's last round stopped at its step cap and its point (every
+  /// face above epsilon) is returned without Ipopt.
+  std::string status;
   double seconds = 0;
 };
 

@@ -5,7 +5,10 @@
 //   minimize  E(v) = -sum_i p_i . v_i - mu sum_f log(det(v_a, v_b, v_c) - b_f),  |v_i| = 1,
 //
 // followed down a short path of mu by Newton steps in each vertex's tangent
-// plane. Every accepted step keeps every face above its bound, so every
+// plane, after an opening phase for faces the start squeezes to rounding
+// (their bounds start just below 0; they are pushed above 2 epsilon with
+// growing weights before the path, whose bounds are then all epsilon).
+// Every accepted step keeps every face above its bound, so every
 // iterate is fold-free (a primal barrier, where Ipopt's slacks let the faces
 // themselves cross during a step). The result is a point near Ipopt's central
 // path at the last mu, from where optimize_sphere_map lets Ipopt finish.
@@ -26,20 +29,27 @@ struct SphereBarrierOptions {
   double mu_end = 0;       ///< last barrier weight: the path stops after the round at mu_end
   double mu_factor = 0.1;  ///< mu shrinks by this factor per round
   int max_steps = 300;     ///< Newton steps over all rounds
+  /// Newton steps per round at most. Near a round's centre the steps can creep
+  /// (the projected face Hessians overstate the curvature along slow modes):
+  /// tentacle_sphere(3) spent 250 full steps of one round each lowering E by
+  /// ~1e-5 of itself. The next round and Ipopt do not need an exact centre.
+  int max_round_steps = 20;
 };
 
 struct SphereBarrierResult {
   MatrixX3d positions;  ///< #V by 3 unit vectors, every face above its bound
-  /// Per face, the barrier's bound b_f: epsilon, or lower where the start
-  /// was tighter (half its triple product, or just below 0 for faces squeezed
-  /// to rounding); raised towards epsilon after each round as faces open.
+  /// Per face, the barrier's bound b_f: epsilon once every face is open (the
+  /// path runs at epsilon); lower only when the steps ran out while opening.
   VectorXd bounds;
   double mu = 0;  ///< the barrier weight of the last round
+  int opening_rounds = 0;  ///< rounds opening faces under 2 epsilon (0: the start was above it)
   int steps = 0;  ///< Newton steps taken
   /// Newton systems factored, shifted retries included (one per step and one
   /// per round's final centring test when no system needs a shift).
   int factorizations = 0;
-  int rounds = 0;  ///< values of mu visited
+  int rounds = 0;  ///< values of mu visited on the path (0: the steps ran out while opening)
+  /// The last round ended within ~mu of its minimum (not at a step cap).
+  bool centred = false;
 };
 
 /// F: #F by 3 faces; pull: #V by 3, p_i = w_i t_i (weighted targets);
@@ -49,10 +59,10 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
                                        ProgressWindow progress = {});
 
 /// E at the points X (any non-zero rows, used as given, not normalised) for
-/// the bounds b and weight mu; +inf where a face is at or below its bound.
+/// the bounds b and the per-face weights mu; +inf where a face is at or below its bound.
 /// Fills *gradient (#V by 3, Euclidean) when not null. The Newton steps
 /// minimise this; exposed for the finite-difference test.
 double sphere_barrier_energy(const MatrixX3i& F, const MatrixX3d& pull, const VectorXd& bounds,
-                             double mu, const MatrixX3d& X, MatrixX3d* gradient = nullptr);
+                             const VectorXd& mu, const MatrixX3d& X, MatrixX3d* gradient = nullptr);
 
 }  // namespace paramorph::morph

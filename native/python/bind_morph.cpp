@@ -6,6 +6,7 @@
 
 #include "morph/align_sphere_map.h"
 #include "morph/morph.h"
+#include "morph/optimization_start.h"
 #include "morph/optimize_sphere_map.h"
 #include "morph/registered_pairs.h"
 #include "python/arrays.h"
@@ -60,16 +61,21 @@ void def_optimize_sphere_map(py::module_& m) {
         if (!weights.is_none()) o.weights = to_vector(weights, "weights");
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
-        const MatrixX3d s = to_vertices(sphere, "sphere");
+        std::optional<MatrixX3d> given;
+        if (!sphere.is_none()) given = to_vertices(sphere, "sphere");
         PythonProgress bridge(std::move(progress));
-        return run_without_gil(bridge,
-                               [&] { return morph::optimize_sphere_map(v, f, s, o, bridge.get()); });
+        return run_without_gil(bridge, [&] {
+          const MatrixX3d start = given ? *given : morph::optimization_start(v, f, bridge.get());
+          return morph::optimize_sphere_map(v, f, start, o, bridge.get());
+        });
       },
-      py::arg("V"), py::arg("F"), py::arg("sphere"), py::kw_only(), py::arg("epsilon") = 0.05,
+      py::arg("V"), py::arg("F"), py::arg("sphere") = py::none(), py::kw_only(), py::arg("epsilon") = 0.05,
       py::arg("max_iterations") = 200, py::arg("tol") = 1e-6, py::arg("target") = py::none(),
       py::arg("weights") = py::none(), py::arg("progress") = py::none(),
       R"doc(Optimized sphere map for morphing (thesis 4.3.3): from a fold-free map
-`sphere` (e.g. sphere_map(V, F).positions), every vertex moves as close as the
+`sphere` (None: the start morph uses, the conformal sphere_map or, where that
+squeezes faces under 1e-6 of the mean triple product, the radial projection
+relaxed until fold-free, thesis 4.3.2), every vertex moves as close as the
 fold constraints allow to its radial projection from the centroid (or to
 `target`): maximise sum w_i v_i^0 . v_i subject to |v_i| = 1 (4.9) and, per
 face, det(v_a, v_b, v_c) >= epsilon x (mean start triple product) (4.10;
@@ -77,6 +83,8 @@ lowered to half the start's smallest when the start is tighter). weights: (n,)
 non-negative per-vertex w_i (all 1 when None; thesis (4.12) weighs feature
 points). Ipopt (MUMPS) with exact sparse derivatives, warm-started from a
 log-barrier Newton path on the spheres; every accepted iterate is fold-free.
+status is Ipopt's, or "Barrier_Point" where the path's last round stopped at
+its step cap and its point (every face above epsilon) is returned unpolished.
 
 V: (n, 3) float64/float32; F: (m, 3) int32/int64, closed genus 0; sphere:
 (n, 3). progress: callable(fraction, stage) -> bool; False raises Cancelled.

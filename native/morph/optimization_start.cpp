@@ -1,0 +1,24 @@
+#include "morph/optimization_start.h"
+
+#include "common/errors.h"
+#include "morph/optimize_sphere_map.h"
+#include "param/spherical/sphere_map.h"
+
+namespace paramorph::morph {
+
+MatrixX3d optimization_start(const MatrixX3d& V, const MatrixX3i& F, Progress* progress) {
+  MatrixX3d conformal =
+      spherical::sphere_map(V, F, {}, progress).positions;
+  const VectorXd det = face_triple_products(conformal.rowwise().normalized(), F);
+  if (det.minCoeff() >= kSqueezedShare * det.mean()) return conformal;
+  spherical::SphereMapOptions relaxation;
+  relaxation.init = spherical::InitialMap::Relaxation;
+  relaxation.max_outer_iterations = 0;
+  try {
+    return spherical::sphere_map(V, F, relaxation, progress).positions;
+  } catch (const ComputeError&) {  // the projection still folds after the relaxation's sweeps
+    return conformal;
+  }
+}
+
+}  // namespace paramorph::morph
