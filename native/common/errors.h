@@ -34,6 +34,10 @@ class InvalidInputError : public MeshError { using MeshError::MeshError; };
 /// Hard constraints that cannot all be met (duplicate pins, unreachable pins).
 class ConstraintError : public MeshError { using MeshError::MeshError; };
 
+/// The target has no room for a pasted feature where it is placed: the
+/// region it needs covers the whole target or is not a disc.
+class TargetTooSmallError : public MeshError { using MeshError::MeshError; };
+
 /// Raised when the caller's progress callback asks to stop.
 class Cancelled : public std::runtime_error {
  public:

@@ -19,6 +19,7 @@ void bind_errors(py::module_& m) {
   static py::exception<DegenerateFaceError> degenerate(m, "DegenerateFaceError", mesh_error.ptr());
   static py::exception<InvalidInputError> invalid(m, "InvalidInputError", mesh_error.ptr());
   static py::exception<ConstraintError> constraint(m, "ConstraintError", mesh_error.ptr());
+  static py::exception<TargetTooSmallError> too_small(m, "TargetTooSmallError", mesh_error.ptr());
   static py::exception<Cancelled> cancelled(m, "Cancelled", PyExc_RuntimeError);
   static py::exception<ComputeError> compute(m, "ComputeError", PyExc_RuntimeError);
 
@@ -43,6 +44,8 @@ void bind_errors(py::module_& m) {
       invalid(e.what());
     } catch (const ConstraintError& e) {
       constraint(e.what());
+    } catch (const TargetTooSmallError& e) {
+      too_small(e.what());
     } catch (const MeshError& e) {
       mesh_error(e.what());
     } catch (const Cancelled& e) {
