@@ -7,6 +7,7 @@
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
+#include "param/planar/initial_maps.h"
 #include "param/planar/isometric_map.h"
 #include "param/planar/untangle.h"
 #include "paste/base_surface.h"
@@ -41,6 +42,40 @@ void require_manifold_source(const MeshReport& r, const SelectionPatch& patch) {
       bad.push_back(f);
   PM_REQUIRE(bad.empty(), DegenerateFaceError, "the selection has ", bad.size(),
              " degenerate (zero-area) faces: ", format_indices(bad));
+}
+
+/// Signed area of face f in the map uv.
+double signed_area(const MatrixX2d& uv, const MatrixX3i& F, Index f) {
+  const Eigen::RowVector2d a = uv.row(F(f, 0)), b = uv.row(F(f, 1)), c = uv.row(F(f, 2));
+  return 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+}
+
+/// Moves a free map of X so its area centroid is uv = 0 and turns it about 0
+/// so e_u there follows the world x axis projected on the surface (y where x
+/// is within 25° of the normal). Returns where uv = 0 lies (a rotation about
+/// 0 keeps its face and barycentric coordinates).
+MapLocation place_canonically(const MatrixX3d& X, const MatrixX3i& F, MatrixX2d& uv) {
+  Eigen::RowVector2d centroid = Eigen::RowVector2d::Zero();
+  double total = 0;
+  for (Index f = 0; f < Index(F.rows()); ++f) {
+    const double area = signed_area(uv, F, f);
+    centroid += area * (uv.row(F(f, 0)) + uv.row(F(f, 1)) + uv.row(F(f, 2))) / 3.0;
+    total += area;
+  }
+  uv.rowwise() -= centroid / total;
+  MapLocation at0 = MapLocator(uv, F).locate(MatrixX2d::Zero(1, 2));
+  const Eigen::Matrix3d R = frame_at(map_frames(X, F, uv), F, at0.face[0], at0.bary.row(0).transpose());
+  const Eigen::Vector3d n = R.col(2);
+  Eigen::Vector3d t = std::abs(n.x()) < std::cos(25.0 * M_PI / 180.0) ? Eigen::Vector3d::UnitX()
+                                                                        : Eigen::Vector3d::UnitY();
+  t -= t.dot(n) * n;
+  const double phi = std::atan2(R.col(0).cross(t).dot(n), R.col(0).dot(t));
+  // uv' = rot(-phi) uv turns ∂X/∂u' by +phi about n (e_v = n × e_u).
+  const double c = std::cos(phi), s = std::sin(phi);
+  const MatrixX2d old = uv;
+  uv.col(0) = c * old.col(0) + s * old.col(1);
+  uv.col(1) = -s * old.col(0) + c * old.col(1);
+  return at0;
 }
 
 planar::PlanarMapResult fold_free_map(const MatrixX3d& X, const MatrixX3i& F, planar::PlanarMapOptions o,
@@ -87,22 +122,31 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   const MatrixX3d base = normalise(base_surface(mesh, patch));
   const MatrixX3d feature = normalise(X);
 
-  // Base map, free boundary, area centroid moved to uv = 0.
+  // Base map, free boundary, placed canonically (centred, turned) both as a
+  // start and as a result, so the solver sees the same start whatever the
+  // input's units or LSCM's choice among tied boundary pairs.
   planar::PlanarMapOptions mo;
   mo.backend = o.backend;
+  mo.init = planar::PlanarInit::Given;
+  {
+    const TriMesh base_mesh(base, patch.F);
+    MatrixX2d start = planar::lscm_map(base_mesh);
+    double area3 = 0, area2 = 0;
+    for (Index f = 0; f < Index(patch.F.rows()); ++f) {
+      const Eigen::Vector3d a = base.row(patch.F(f, 0)), b = base.row(patch.F(f, 1)), c = base.row(patch.F(f, 2));
+      area3 += 0.5 * (b - a).cross(c - a).norm();
+      area2 += 0.5 * std::abs(signed_area(start, patch.F, f));
+    }
+    if (area2 > 0) start *= std::sqrt(area3 / area2);
+    place_canonically(base, patch.F, start);
+    mo.initial_uv = start;
+  }
   planar::PlanarMapResult base_map = stage("base map", 0.05, 0.4, progress, [&](Progress* p) {
     return fold_free_map(base, patch.F, mo, "base", p);
   });
-  Eigen::RowVector2d centroid = Eigen::RowVector2d::Zero();
-  double map_area = 0;
-  for (Index f = 0; f < Index(patch.F.rows()); ++f) {
-    const Eigen::RowVector2d a = base_map.uv.row(patch.F(f, 0)), b = base_map.uv.row(patch.F(f, 1)),
-                             c = base_map.uv.row(patch.F(f, 2));
-    const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
-    centroid += area * (a + b + c) / 3.0;
-    map_area += area;
-  }
-  base_map.uv.rowwise() -= centroid / map_area;
+  const MapLocation at0 = place_canonically(base, patch.F, base_map.uv);
+  mo.init = planar::PlanarInit::Auto;
+  mo.initial_uv.reset();
 
   // Feature map, every boundary vertex pinned to the base map.
   for (const auto& loop : patch.boundary_loops)
@@ -116,8 +160,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
 
   // The feature frame: the base at uv = 0 (for an annulus uv = 0 lies in the
   // hole: the tangent plane at the closest domain point, continued to 0).
-  const MapLocator base_locator(base_map.uv, patch.F);
-  const MapLocation at0 = base_locator.locate(MatrixX2d::Zero(1, 2));
+  // (The rotation about 0 kept uv = 0's face and barycentric coordinates.)
   const MapFrames frames = map_frames(base, patch.F, base_map.uv);
   const Eigen::Matrix3d axes = frame_at(frames, patch.F, at0.face[0], at0.bary.row(0).transpose());
   Eigen::Vector3d origin = interpolate(patch.F, at0, base).row(0).transpose();
@@ -145,7 +188,8 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
     const Eigen::Vector3d a = out.V.row(out.F(f, 0)), b = out.V.row(out.F(f, 1)), c = out.V.row(out.F(f, 2));
     area += 0.5 * (b - a).cross(c - a).norm();
   }
-  const MatrixX2i& E = TriMesh(out.V, out.F).edges();
+  const TriMesh feature_mesh(out.V, out.F);
+  const MatrixX2i& E = feature_mesh.edges();
   for (Index e = 0; e < Index(E.rows()); ++e) length += (out.V.row(E(e, 0)) - out.V.row(E(e, 1))).norm();
   out.area = area;
   out.mean_edge_length = length / double(E.rows());

@@ -5,13 +5,15 @@
 //      be a manifold, consistently oriented, with no degenerate face selected;
 //   2. the base surface spans the feature's boundary (paste/base_surface.h);
 //   3. the base map: isometric_map of the base with a free boundary, moved so
-//      its area centroid is uv = 0; the feature map: isometric_map of the
-//      feature with every boundary vertex pinned to its base map uv ("we fix
-//      the boundary ... on corresponding positions of the base surface
-//      parameterization"), so both maps cover the same domain;
-//   4. the feature frame at uv = 0 (for an annulus, where uv = 0 lies in the
-//      hole, the base's tangent plane at the closest domain point continued
-//      to uv = 0);
+//      its area centroid is uv = 0 and turned about 0 so e_u there follows
+//      the world x axis projected on the base (y where x is within 25° of
+//      the normal: a free map's rotation is otherwise arbitrary);
+//   4. the feature map: isometric_map of the feature with every boundary
+//      vertex pinned to its base map uv ("we fix the boundary ... on
+//      corresponding positions of the base surface parameterization"), so
+//      both maps cover the same domain; then the feature frame at uv = 0 (for
+//      an annulus, where uv = 0 lies in the hole: the base's tangent plane at
+//      the closest domain point, continued to uv = 0);
 //   5. the displacement grid (paste/feature.h states nodes, origin, spacing).
 // The work is done on the input translated and scaled to unit mean edge
 // length and scaled back, so the result scales with the input.

@@ -3,6 +3,11 @@
 // sample_feature (paste/sample_feature.h).
 #include <pybind11/stl.h>
 
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "paste/extract_feature.h"
 #include "paste/sample_feature.h"
 #include "python/arrays.h"
@@ -100,12 +105,12 @@ py::dict to_arrays(const Feature& f) {
   d["boundary_offsets"] = loop_offsets(f);
   d["source_faces"] = to_numpy(f.source_faces);
   d["source_vertices"] = to_numpy(f.source_vertices);
-  d["origin"] = to_numpy(Eigen::RowVector3d(f.origin.transpose()));
+  d["origin"] = to_numpy(Eigen::VectorXd(f.origin));
   d["axes"] = to_numpy(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(f.axes));
   d["radius"] = scalar(f.radius);
   d["area"] = scalar(f.area);
   d["mean_edge_length"] = scalar(f.mean_edge_length);
-  d["grid_origin"] = to_numpy(Eigen::RowVector2d(f.grid_origin.transpose()));
+  d["grid_origin"] = to_numpy(Eigen::VectorXd(f.grid_origin));
   d["grid_spacing"] = scalar(f.grid_spacing);
   d["displacement"] = grid(f, f.displacement);
   d["mask"] = mask_grid(f);
@@ -197,7 +202,7 @@ void bind_paste(py::module_& m) {
                              "list of (k,) int32 vertex loops, in the order the faces traverse them")
       .def_property_readonly("source_faces", [](const Feature& f) { return to_numpy(f.source_faces); })
       .def_property_readonly("source_vertices", [](const Feature& f) { return to_numpy(f.source_vertices); })
-      .def_property_readonly("origin", [](const Feature& f) { return to_numpy(Eigen::RowVector3d(f.origin.transpose())); },
+      .def_property_readonly("origin", [](const Feature& f) { return to_numpy(Eigen::VectorXd(f.origin)); },
                              "(3,) frame origin in source coordinates")
       .def_property_readonly("axes",
                              [](const Feature& f) { return to_numpy(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(f.axes)); },
@@ -206,7 +211,7 @@ void bind_paste(py::module_& m) {
       .def_readonly("area", &Feature::area)
       .def_readonly("mean_edge_length", &Feature::mean_edge_length)
       .def_readonly("resolution", &Feature::resolution)
-      .def_property_readonly("grid_origin", [](const Feature& f) { return to_numpy(Eigen::RowVector2d(f.grid_origin.transpose())); },
+      .def_property_readonly("grid_origin", [](const Feature& f) { return to_numpy(Eigen::VectorXd(f.grid_origin)); },
                              "uv of grid node [0, 0]")
       .def_readonly("grid_spacing", &Feature::grid_spacing)
       .def_property_readonly("displacement", [](const Feature& f) { return grid(f, f.displacement); },

@@ -55,9 +55,10 @@ def test_plane_bump_base_is_the_plane_and_normal_displacement_is_the_bump(plane_
     assert np.array_equal(np.sort(feature.source_faces), np.sort(faces))
     # The exact path: stored positions are the source's.
     assert np.allclose(to_source(feature, feature.vertices), V[feature.source_vertices], rtol=0, atol=1e-12)
-    # Base: the plane z = 0 (the selection's rim and ring sit at z <= 1.2e-4 h).
+    # Base: the plane z = 0 up to the bump's tail at the rim (z ~ 1e-4 h there, with slope
+    # ~ 2 R / s**2 times that, which the thin-plate fill continues inwards: measured 2.1e-3 h).
     base = to_source(feature, feature.base_vertices)
-    assert np.abs(base[:, 2]).max() < 1e-3 * H
+    assert np.abs(base[:, 2]).max() < 5e-3 * H
     # Frame: n = +z (faces counter-clockwise seen from +z), origin near the bump's centre.
     assert feature.axes[:, 2] @ [0, 0, 1] > 1 - 1e-9
     assert np.linalg.norm(feature.origin[:2]) < 0.05
@@ -71,8 +72,9 @@ def test_plane_bump_base_is_the_plane_and_normal_displacement_is_the_bump(plane_
     p = to_source(feature, s["position"])
     r = np.linalg.norm(p[:, :2], axis=1)
     assert np.abs(d[:, 2] - H * np.exp(-r ** 2 / SIGMA ** 2)).max() < 0.01 * H
-    # Tangential part: the isometric feature map slides points only a little along the base.
-    assert np.linalg.norm(d[:, :2], axis=1).max() < 0.25 * H
+    # Tangential part: the isometric feature map slides points only a little along the base
+    # (measured 2.0e-2 h).
+    assert np.linalg.norm(d[:, :2], axis=1).max() < 0.05 * H
 
 
 def test_rebuild_at_feature_vertices(plane_bump):
@@ -81,7 +83,7 @@ def test_rebuild_at_feature_vertices(plane_bump):
     s = pm.sample_feature(feature, feature.uv)
     assert s["distance"].max() < 1e-12
     err = np.linalg.norm(s["position"] - feature.vertices, axis=1)
-    assert err.max() < 0.02 * H, err.max()
+    assert err.max() < 0.02 * H, err.max()  # bilinear at resolution 64: measured 1.1e-2 h
     # Base through the base map at the base map's own uv: the base vertices.
     b = pm.sample_feature(feature, feature.base_uv)
     assert np.allclose(b["base"], feature.base_vertices, rtol=0, atol=1e-12)
@@ -100,31 +102,49 @@ def test_sphere_bump():
     p = to_source(feature, s["position"])
     theta = np.arccos(np.clip(p[:, 2] / np.linalg.norm(p, axis=1), -1, 1))
     d_n = feature.displacement.reshape(-1, 3)[inside, 2]
-    assert np.abs(d_n - h * np.exp(-theta ** 2 / sigma ** 2)).max() < 0.1 * h
+    bump = h * np.exp(-theta ** 2 / sigma ** 2)
+    # The thin-plate base is not exactly the sphere (|B| - 1 up to 3.7e-3 = 7% of h, measured):
+    # against the bump alone within 10% of h; against the bump over the actual base within 2%.
+    assert np.abs(d_n - bump).max() < 0.1 * h
+    b = np.linalg.norm(to_source(feature, s["base"]), axis=1)
+    assert np.abs(d_n - (bump + 1 - b)).max() < 0.02 * h
 
 
 def test_annulus_rib():
-    V, F, faces = meshes.rib_plane(n=60, height=0.08, width=0.08, ring=0.5)
-    feature = pm.extract_feature(V, F, faces, resolution=64, backend="cpu")
-    assert len(feature.boundary_loops) == 2
-    check_maps(feature)
-    # uv = 0 lies in the hole: the origin is the base's tangent plane continued there.
-    assert np.abs(feature.origin).max() < 0.05 and feature.axes[:, 2] @ [0, 0, 1] > 1 - 1e-9
-    inside = feature.mask.ravel() == 1
-    hole = np.linalg.norm(node_uv(feature), axis=1) < 0.25
-    assert not (inside & hole).any()
-    s = pm.sample_feature(feature, feature.uv)
-    assert np.linalg.norm(s["position"] - feature.vertices, axis=1).max() < 0.05 * 0.08
+    height = 0.08
+    V, F, faces = meshes.rib_plane(n=60, height=height, width=0.08, ring=0.5)
+    errors = []
+    for resolution in (64, 128):
+        feature = pm.extract_feature(V, F, faces, resolution=resolution, backend="cpu")
+        assert len(feature.boundary_loops) == 2
+        check_maps(feature)
+        # uv = 0 lies in the hole: the origin is the base's tangent plane continued there
+        # (the rib's tails at the rims tilt the base by ~1e-3 rad).
+        assert np.abs(feature.origin).max() < 0.05 and feature.axes[:, 2] @ [0, 0, 1] > 1 - 1e-5
+        inside = feature.mask.ravel() == 1
+        hole = np.linalg.norm(node_uv(feature), axis=1) < 0.2  # the inner rim is at r ~ 0.24
+        assert inside.any() and not (inside & hole).any()
+        s = pm.sample_feature(feature, feature.uv)
+        errors.append(np.linalg.norm(s["position"] - feature.vertices, axis=1).max())
+    # The rib is 3 grid cells wide at resolution 64: bilinear rebuild error 6.7% of its height
+    # (measured), halving with the grid spacing.
+    assert errors[0] < 0.1 * height and errors[1] < 0.7 * errors[0], errors
 
 
-def test_scale_invariance():
+@pytest.mark.parametrize("factor, rel", [(1024.0, 1e-14), (1e3, 1e-7)])
+def test_scale_invariance(factor, rel):
+    """extract_feature works at unit mean edge length: a power-of-two scale reaches it with the
+    same bits (equal to round-off); 1e3 perturbs the input by round-off, which the isometric
+    solver's line searches amplify to ~1e-8 relative (measured 1.1e-8), hence 1e-7 there."""
     V, F, faces = meshes.bump_plane(n=30, height=H, sigma=SIGMA, radius=RADIUS)
     a = pm.extract_feature(V, F, faces, resolution=32, backend="cpu")
-    b = pm.extract_feature(1e3 * V, F, faces, resolution=32, backend="cpu")
-    assert np.allclose(b.displacement, 1e3 * a.displacement, rtol=1e-9, atol=1e-9 * 1e3 * np.abs(a.displacement).max())
+    b = pm.extract_feature(factor * V, F, faces, resolution=32, backend="cpu")
+    scale = np.abs(a.displacement).max()
+    assert np.abs(b.displacement - factor * a.displacement).max() <= rel * factor * scale
     assert np.array_equal(a.mask, b.mask)
-    assert b.radius == pytest.approx(1e3 * a.radius, rel=1e-9)
-    assert b.area == pytest.approx(1e6 * a.area, rel=1e-9)
+    assert b.radius == pytest.approx(factor * a.radius, rel=rel)
+    assert b.area == pytest.approx(factor ** 2 * a.area, rel=rel)
+    assert np.allclose(b.axes, a.axes, rtol=0, atol=rel)
 
 
 def test_round_trip_is_exact(plane_bump):
