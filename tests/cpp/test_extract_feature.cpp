@@ -3,6 +3,7 @@
 // with one shared boundary, and the grid rebuilds the feature.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -53,9 +54,20 @@ TEST(ExtractFeature, SelectionErrorsAreTyped) {
     EXPECT_NE(std::string(e.what()).find("is not connected"), std::string::npos) << e.what();
   }
   // The bump minus one interior face: an annulus is fine, minus two apart: 3 loops.
+  auto nearest = [&](double x, double y) {  // the feature face whose centroid is nearest (x, y)
+    Index best = -1;
+    double best_d = 1e300;
+    for (Index f : g.feature) {
+      const Eigen::RowVector3d c = (g.V.row(g.F(f, 0)) + g.V.row(g.F(f, 1)) + g.V.row(g.F(f, 2))) / 3.0;
+      const double d = std::hypot(c.x() - x, c.y() - y);
+      if (d < best_d) best_d = d, best = f;
+    }
+    return best;
+  };
+  const Index hole_a = nearest(-0.3, 0.0), hole_b = nearest(0.3, 0.0);
   std::vector<Index> holed;
   for (Index f : g.feature)
-    if (f != g.feature[g.feature.size() / 2] && f != g.feature[g.feature.size() / 4]) holed.push_back(f);
+    if (f != hole_a && f != hole_b) holed.push_back(f);
   try {
     extract_feature(g.V, g.F, holed);
     FAIL() << "three loops accepted";
@@ -73,12 +85,17 @@ TEST(ExtractFeature, PlaneBumpBaseMapsAndRebuild) {
   for (Index v : f.boundary_loops[0]) EXPECT_EQ(f.uv.row(v), f.base_uv.row(v));
   // Base on the plane z = 0, n = +z; stored positions are the source's.
   EXPECT_GT(f.axes(2, 2), 1 - 1e-9);
+  // (The bump's tail at the rim, ~1e-4 h with its slope, is continued by the
+  // thin-plate fill: the base leaves the plane by ~2e-3 h.)
+  double base_z = 0, stored = 0;
   for (Index i = 0; i < Index(f.V.rows()); ++i) {
     const Eigen::Vector3d base = f.origin + f.axes * f.base_V.row(i).transpose();
-    EXPECT_LT(std::abs(base.z()), 1e-3 * kH);
+    base_z = std::max(base_z, std::abs(base.z()));
     const Eigen::Vector3d x = f.origin + f.axes * f.V.row(i).transpose();
-    EXPECT_LT((x - g.V.row(f.source_vertices[i]).transpose()).norm(), 1e-12);
+    stored = std::max(stored, (x - g.V.row(f.source_vertices[i]).transpose()).norm());
   }
+  EXPECT_LT(base_z, 5e-3 * kH);
+  EXPECT_LT(stored, 1e-12);
   // The normal displacement at inside nodes is the bump's height where the
   // feature point lies (mesh interpolation error: 3% of h on this coarse grid).
   MatrixX2d nodes(f.displacement.rows(), 2);
@@ -87,14 +104,17 @@ TEST(ExtractFeature, PlaneBumpBaseMapsAndRebuild) {
       nodes.row(i * f.resolution + j) = f.grid_origin.transpose() + f.grid_spacing * Eigen::RowVector2d(j, i);
   const FeatureSample s = sample_feature(f, nodes);
   int inside = 0;
+  double worst_normal = 0, worst_node = 0;
   for (Index q = 0; q < Index(nodes.rows()); ++q) {
     if (!f.mask[q]) continue;
     ++inside;
     const Eigen::Vector3d p = f.origin + f.axes * s.position.row(q).transpose();
     const double r = std::hypot(p.x(), p.y());
-    EXPECT_NEAR(f.displacement(q, 2), kH * std::exp(-r * r / (kS * kS)), 0.03 * kH);
-    EXPECT_LT((s.displacement.row(q) - f.displacement.row(q)).norm(), 1e-12);
+    worst_normal = std::max(worst_normal, std::abs(f.displacement(q, 2) - kH * std::exp(-r * r / (kS * kS))));
+    worst_node = std::max(worst_node, (s.displacement.row(q) - f.displacement.row(q)).norm());
   }
+  EXPECT_LT(worst_normal, 0.03 * kH);
+  EXPECT_LT(worst_node, 1e-12);
   EXPECT_GT(inside, f.resolution * f.resolution / 2);
   // Rebuild at the feature's own vertices through the bilinear grid.
   const FeatureSample at_vertices = sample_feature(f, f.uv);
