@@ -237,3 +237,13 @@ def test_non_manifold_source():
     V, F = meshes.non_manifold_edge()
     with pytest.raises(pm.NonManifoldError):
         pm.extract_feature(V, F, np.array([0]))
+
+
+def test_progress_and_cancel(small_bump):
+    V, F, faces = small_bump
+    seen = []
+    pm.extract_feature(V, F, faces, resolution=16, backend="cpu", progress=lambda f, s: seen.append((f, s)))
+    fractions = [f for f, _ in seen]
+    assert fractions[0] == 0.0 and fractions[-1] == 1.0 and fractions == sorted(fractions)
+    with pytest.raises(pm.Cancelled):
+        pm.extract_feature(V, F, faces, progress=lambda f, s: False)
