@@ -37,6 +37,13 @@ class ConstraintError : public MeshError { using MeshError::MeshError; };
 /// The target has no room for a pasted feature where it is placed: the
 /// region it needs covers the whole target or is not a disc.
 class TargetTooSmallError : public MeshError { using MeshError::MeshError; };
+/// A face selection (cut-and-paste, thesis ch. 5) selects no face at all.
+class EmptySelectionError : public MeshError { using MeshError::MeshError; };
+/// A face selection takes every face of the mesh: nothing is left around it.
+class WholeMeshSelectedError : public MeshError { using MeshError::MeshError; };
+/// Selected faces that are not one edge-connected disc or annulus: the message
+/// says "is not connected", "has N boundary loops" or "has handles".
+class SelectionTopologyError : public MeshError { using MeshError::MeshError; };
 
 /// Raised when the caller's progress callback asks to stop.
 class Cancelled : public std::runtime_error {
@@ -85,6 +92,14 @@ auto for_mesh(const char* name, Fn&& fn) {
     throw InvalidInputError(prefixed(e));
   } catch (const ConstraintError& e) {
     throw ConstraintError(prefixed(e));
+  } catch (const EmptySelectionError& e) {
+    throw EmptySelectionError(prefixed(e));
+  } catch (const WholeMeshSelectedError& e) {
+    throw WholeMeshSelectedError(prefixed(e));
+  } catch (const SelectionTopologyError& e) {
+    throw SelectionTopologyError(prefixed(e));
+  } catch (const TargetTooSmallError& e) {
+    throw TargetTooSmallError(prefixed(e));
   } catch (const MeshError& e) {
     throw MeshError(prefixed(e));
   }

@@ -20,6 +20,10 @@ void bind_errors(py::module_& m) {
   static py::exception<InvalidInputError> invalid(m, "InvalidInputError", mesh_error.ptr());
   static py::exception<ConstraintError> constraint(m, "ConstraintError", mesh_error.ptr());
   static py::exception<TargetTooSmallError> too_small(m, "TargetTooSmallError", mesh_error.ptr());
+  static py::exception<EmptySelectionError> empty_selection(m, "EmptySelectionError", mesh_error.ptr());
+  static py::exception<WholeMeshSelectedError> whole_mesh(m, "WholeMeshSelectedError", mesh_error.ptr());
+  static py::exception<SelectionTopologyError> selection_topology(m, "SelectionTopologyError",
+                                                                  mesh_error.ptr());
   static py::exception<Cancelled> cancelled(m, "Cancelled", PyExc_RuntimeError);
   static py::exception<ComputeError> compute(m, "ComputeError", PyExc_RuntimeError);
 
@@ -46,6 +50,12 @@ void bind_errors(py::module_& m) {
       constraint(e.what());
     } catch (const TargetTooSmallError& e) {
       too_small(e.what());
+    } catch (const EmptySelectionError& e) {
+      empty_selection(e.what());
+    } catch (const WholeMeshSelectedError& e) {
+      whole_mesh(e.what());
+    } catch (const SelectionTopologyError& e) {
+      selection_topology(e.what());
     } catch (const MeshError& e) {
       mesh_error(e.what());
     } catch (const Cancelled& e) {

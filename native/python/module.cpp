@@ -4,7 +4,7 @@
 PYBIND11_MODULE(paramorph_native, m) {
   m.doc() =
       "paramorph native core: mesh validation, OpenCL devices, spherical and planar "
-      "parameterization, feature measures and matching";
+      "parameterization, feature measures and matching, feature cut-and-paste";
   m.attr("__version__") = "0.1.0";
   paramorph::python::bind_errors(m);
   paramorph::python::bind_mesh(m);
@@ -16,4 +16,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_matching(m);
   paramorph::python::bind_morph(m);
   paramorph::python::bind_overlay(m);
+  paramorph::python::bind_paste(m);
 }

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <vector>
 #include <map>
 #include <utility>
 
@@ -122,6 +124,28 @@ inline std::pair<MatrixX3d, MatrixX3i> bumpy_grid(int n) {
       V.row(i * (n + 1) + j) << x, y, 0.3 * std::sin(4 * x) * std::sin(3 * y);
     }
   return {V, grid_faces(n)};
+}
+
+/// A plane grid over [-1, 1]² ((n+1)² vertices, faces counter-clockwise seen
+/// from +z) lifted by a Gaussian bump z = h exp(-r²/s²) where r < R, and the
+/// faces whose centroid lies within r < R (the feature).
+struct BumpGrid {
+  MatrixX3d V;
+  MatrixX3i F;
+  std::vector<Index> feature;
+};
+inline BumpGrid gaussian_bump_grid(int n, double h, double s, double R) {
+  BumpGrid g{MatrixX3d((n + 1) * (n + 1), 3), grid_faces(n), {}};
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n, r = std::hypot(x, y);
+      g.V.row(i * (n + 1) + j) << x, y, r < R ? h * std::exp(-r * r / (s * s)) : 0.0;
+    }
+  for (Index f = 0; f < Index(g.F.rows()); ++f) {
+    const Eigen::RowVector3d c = (g.V.row(g.F(f, 0)) + g.V.row(g.F(f, 1)) + g.V.row(g.F(f, 2))) / 3.0;
+    if (std::hypot(c.x(), c.y()) < R) g.feature.push_back(f);
+  }
+  return g;
 }
 
 }  // namespace paramorph::test_meshes

@@ -11,6 +11,9 @@ bumps_and_pits (asymmetric features, any resolution: feature matching),
 bad_triangulation, sized_sphere_mesh (benchmarks). Broken families (error
 paths): open_disc, torus, two_spheres, non_manifold_edge, pinched_spheres,
 flipped_face, loose_vertex, nan_vertex, out_of_range_index, zero_area_face.
+
+Open surfaces for feature cut-and-paste: plane_grid, bump_plane (Gaussian
+bump), rib_plane (ring-shaped rib), bump_sphere (radial Gaussian bump).
 """
 import numpy as np
 
@@ -603,3 +606,53 @@ FAMILIES_BROKEN = {
     "loose_vertex": loose_vertex,
     "zero_area_face": zero_area_face,
 }
+
+
+# --- open surfaces and bumps for feature cut-and-paste -------------------------------
+
+def plane_grid(n=60, half=1.0):
+    """(n+1)**2 vertices on [-half, half]**2 at z = 0, 2 n**2 faces counter-clockwise seen from +z."""
+    x = np.linspace(-half, half, n + 1)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    V = np.column_stack([X.ravel(), Y.ravel(), np.zeros(X.size)])
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    a = (i * (n + 1) + j).ravel()
+    b = a + n + 1
+    F = np.concatenate([np.stack([a, b, b + 1], 1), np.stack([a, b + 1, a + 1], 1)])
+    return V, F.astype(np.int32)
+
+
+def face_centroids(V, F):
+    return V[F].mean(axis=1)
+
+
+def bump_plane(n=60, height=0.1, sigma=0.3, radius=0.9):
+    """plane_grid with z = height exp(-r**2 / sigma**2) where r < radius; also returns the
+    faces whose centroid lies within radius (the feature): (V, F, feature_faces)."""
+    V, F = plane_grid(n)
+    r = np.linalg.norm(V[:, :2], axis=1)
+    V[:, 2] = np.where(r < radius, height * np.exp(-r ** 2 / sigma ** 2), 0.0)
+    rc = np.linalg.norm(face_centroids(V, F)[:, :2], axis=1)
+    return V, F, np.flatnonzero(rc < radius).astype(np.int32)
+
+
+def rib_plane(n=60, height=0.08, width=0.08, ring=0.5):
+    """plane_grid with a ring-shaped rib z = height exp(-(r - ring)**2 / width**2) where
+    |r - ring| < 3 width; the rib's faces (an annulus) returned too: (V, F, feature_faces)."""
+    V, F = plane_grid(n)
+    r = np.linalg.norm(V[:, :2], axis=1)
+    V[:, 2] = np.where(np.abs(r - ring) < 3 * width, height * np.exp(-(r - ring) ** 2 / width ** 2), 0.0)
+    rc = np.linalg.norm(face_centroids(V, F)[:, :2], axis=1)
+    return V, F, np.flatnonzero(np.abs(rc - ring) < 3 * width).astype(np.int32)
+
+
+def bump_sphere(subdivisions=5, height=0.05, sigma=0.2, cap=0.6):
+    """Unit icosphere pushed out radially by 1 + height exp(-theta**2 / sigma**2), theta the
+    angle from +z, where theta < cap; with the faces whose centroid has theta < cap:
+    (V, F, feature_faces)."""
+    V, F = icosphere(subdivisions)
+    theta = np.arccos(np.clip(V[:, 2], -1, 1))
+    V = V * np.where(theta < cap, 1 + height * np.exp(-theta ** 2 / sigma ** 2), 1.0)[:, None]
+    c = face_centroids(V, F)
+    tc = np.arccos(np.clip(c[:, 2] / np.linalg.norm(c, axis=1), -1, 1))
+    return V, F, np.flatnonzero(tc < cap).astype(np.int32)

@@ -1,0 +1,276 @@
+// Feature cut-and-paste (native/paste/): extract_feature (paste/extract_feature.h),
+// Feature (paste/feature.h) with to_arrays()/from_arrays() for storing it,
+// sample_feature (paste/sample_feature.h).
+#include <pybind11/stl.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "paste/extract_feature.h"
+#include "paste/sample_feature.h"
+#include "python/arrays.h"
+#include "python/bindings.h"
+#include "python/progress.h"
+
+namespace paramorph::python {
+
+using paste::Feature;
+
+namespace {
+
+/// A float64 array of exactly `shape` (a -1 entry: any size) from d[key].
+py::array_t<double, py::array::c_style | py::array::forcecast> float_array(const py::dict& d, const char* key,
+                                                                           std::vector<py::ssize_t> shape) {
+  PM_REQUIRE(d.contains(key), InvalidInputError, "feature arrays lack \"", key, "\"");
+  py::array arr = py::array::ensure(d[key]);
+  PM_REQUIRE(arr && (arr.dtype().kind() == 'f' || arr.dtype().kind() == 'i'), InvalidInputError, "\"", key,
+             "\" must be a numeric array");
+  bool ok = arr.ndim() == py::ssize_t(shape.size());
+  for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = shape[k] < 0 || arr.shape(k) == shape[k];
+  PM_REQUIRE(ok, InvalidInputError, "\"", key, "\" has shape ", std::string(py::str(arr.attr("shape"))),
+             ", expected ", std::string(py::str(py::tuple(py::cast(shape)))), " (-1: any)");
+  auto out = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  PM_REQUIRE(std::all_of(out.data(), out.data() + out.size(), [](double x) { return std::isfinite(x); }),
+             InvalidInputError, "\"", key, "\" must be finite");
+  return out;
+}
+
+py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> int_array(const py::dict& d, const char* key,
+                                                                               std::vector<py::ssize_t> shape) {
+  PM_REQUIRE(d.contains(key), InvalidInputError, "feature arrays lack \"", key, "\"");
+  py::array arr = py::array::ensure(d[key]);
+  PM_REQUIRE(arr && (arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u'), InvalidInputError, "\"", key,
+             "\" must be an integer array");
+  bool ok = arr.ndim() == py::ssize_t(shape.size());
+  for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = shape[k] < 0 || arr.shape(k) == shape[k];
+  PM_REQUIRE(ok, InvalidInputError, "\"", key, "\" has shape ", std::string(py::str(arr.attr("shape"))),
+             ", expected ", std::string(py::str(py::tuple(py::cast(shape)))), " (-1: any)");
+  return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+}
+
+template <typename Matrix>
+Matrix to_matrix(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, Index rows) {
+  Matrix m(rows, Matrix::ColsAtCompileTime == Eigen::Dynamic ? 1 : Matrix::ColsAtCompileTime);
+  std::copy(a.data(), a.data() + a.size(), m.data());
+  return m;
+}
+
+VectorXi to_index_vector(const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& a,
+                         std::int64_t bound, const char* key) {
+  VectorXi out(a.size());
+  for (py::ssize_t k = 0; k < a.size(); ++k) {
+    PM_REQUIRE(a.data()[k] >= 0 && a.data()[k] < bound, InvalidInputError, "\"", key, "\" has index ",
+               a.data()[k], " out of range [0, ", bound, ")");
+    out[k] = Index(a.data()[k]);
+  }
+  return out;
+}
+
+py::array scalar(double x) { return py::array_t<double>(std::vector<py::ssize_t>{}, &x); }
+
+py::array grid(const Feature& f, const MatrixX3d& m) {
+  py::array_t<double> out({py::ssize_t(f.resolution), py::ssize_t(f.resolution), py::ssize_t(3)});
+  std::copy(m.data(), m.data() + m.size(), out.mutable_data());
+  return out;
+}
+
+py::array mask_grid(const Feature& f) {
+  py::array_t<std::uint8_t> out({py::ssize_t(f.resolution), py::ssize_t(f.resolution)});
+  for (Index k = 0; k < f.mask.size(); ++k) out.mutable_data()[k] = std::uint8_t(f.mask[k]);
+  return out;
+}
+
+py::array loop_vertices(const Feature& f) {
+  std::vector<Index> all;
+  for (const auto& loop : f.boundary_loops) all.insert(all.end(), loop.begin(), loop.end());
+  return to_numpy(all);
+}
+
+py::array loop_offsets(const Feature& f) {
+  std::vector<Index> offsets{0};
+  for (const auto& loop : f.boundary_loops) offsets.push_back(offsets.back() + Index(loop.size()));
+  return to_numpy(offsets);
+}
+
+py::dict to_arrays(const Feature& f) {
+  py::dict d;
+  d["faces"] = to_numpy(f.F);
+  d["vertices"] = to_numpy(f.V);
+  d["uv"] = to_numpy(f.uv);
+  d["base_vertices"] = to_numpy(f.base_V);
+  d["base_uv"] = to_numpy(f.base_uv);
+  d["boundary_vertices"] = loop_vertices(f);
+  d["boundary_offsets"] = loop_offsets(f);
+  d["source_faces"] = to_numpy(f.source_faces);
+  d["source_vertices"] = to_numpy(f.source_vertices);
+  d["origin"] = to_numpy(Eigen::VectorXd(f.origin));
+  d["axes"] = to_numpy(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(f.axes));
+  d["radius"] = scalar(f.radius);
+  d["area"] = scalar(f.area);
+  d["mean_edge_length"] = scalar(f.mean_edge_length);
+  d["grid_origin"] = to_numpy(Eigen::VectorXd(f.grid_origin));
+  d["grid_spacing"] = scalar(f.grid_spacing);
+  d["displacement"] = grid(f, f.displacement);
+  d["mask"] = mask_grid(f);
+  return d;
+}
+
+Feature from_arrays(const py::dict& d) {
+  Feature f;
+  const auto faces = int_array(d, "faces", {-1, 3});
+  const auto V = float_array(d, "vertices", {-1, 3});
+  const Index n = Index(V.shape(0)), m = Index(faces.shape(0));
+  PM_REQUIRE(n > 0 && m > 0, InvalidInputError, "a feature needs vertices and faces");
+  f.F = to_index_vector(faces, n, "faces").reshaped<Eigen::RowMajor>(m, 3);
+  f.V = to_matrix<MatrixX3d>(V, n);
+  f.uv = to_matrix<MatrixX2d>(float_array(d, "uv", {n, 2}), n);
+  f.base_V = to_matrix<MatrixX3d>(float_array(d, "base_vertices", {n, 3}), n);
+  f.base_uv = to_matrix<MatrixX2d>(float_array(d, "base_uv", {n, 2}), n);
+  const VectorXi loop_vertices = to_index_vector(int_array(d, "boundary_vertices", {-1}), n, "boundary_vertices");
+  const auto offsets = int_array(d, "boundary_offsets", {-1});
+  PM_REQUIRE(offsets.size() >= 2 && offsets.data()[0] == 0 && offsets.data()[offsets.size() - 1] == loop_vertices.size(),
+             InvalidInputError, "\"boundary_offsets\" must run from 0 to len(boundary_vertices)");
+  for (py::ssize_t k = 0; k + 1 < offsets.size(); ++k) {
+    PM_REQUIRE(offsets.data()[k] < offsets.data()[k + 1], InvalidInputError,
+               "\"boundary_offsets\" must increase");
+    f.boundary_loops.emplace_back(loop_vertices.data() + offsets.data()[k], loop_vertices.data() + offsets.data()[k + 1]);
+  }
+  f.source_faces = to_index_vector(int_array(d, "source_faces", {m}), std::numeric_limits<Index>::max(), "source_faces");
+  f.source_vertices = to_index_vector(int_array(d, "source_vertices", {n}), std::numeric_limits<Index>::max(),
+                                      "source_vertices");
+  const auto origin = float_array(d, "origin", {3});
+  f.origin = Eigen::Vector3d(origin.data());
+  const auto axes = float_array(d, "axes", {3, 3});
+  f.axes = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(axes.data());
+  PM_REQUIRE((f.axes.transpose() * f.axes - Eigen::Matrix3d::Identity()).norm() < 1e-9 && f.axes.determinant() > 0,
+             InvalidInputError, "\"axes\" must be a rotation (orthonormal, right-handed)");
+  f.radius = *float_array(d, "radius", {}).data();
+  f.area = *float_array(d, "area", {}).data();
+  f.mean_edge_length = *float_array(d, "mean_edge_length", {}).data();
+  const auto grid_origin = float_array(d, "grid_origin", {2});
+  f.grid_origin = Eigen::Vector2d(grid_origin.data());
+  f.grid_spacing = *float_array(d, "grid_spacing", {}).data();
+  const auto displacement = float_array(d, "displacement", {-1, -1, 3});
+  const py::ssize_t r = displacement.shape(0);
+  PM_REQUIRE(r >= 2 && displacement.shape(1) == r, InvalidInputError,
+             "\"displacement\" must be (r, r, 3) with r >= 2");
+  PM_REQUIRE(f.radius > 0 && f.grid_spacing > 0, InvalidInputError, "radius and grid_spacing must be positive");
+  f.resolution = int(r);
+  f.displacement = to_matrix<MatrixX3d>(displacement, Index(r * r));
+  const auto mask = int_array(d, "mask", {r, r});
+  f.mask.resize(Index(r * r));
+  for (py::ssize_t k = 0; k < mask.size(); ++k) {
+    PM_REQUIRE(mask.data()[k] == 0 || mask.data()[k] == 1, InvalidInputError, "\"mask\" must hold 0 or 1");
+    f.mask[Index(k)] = Index(mask.data()[k]);
+  }
+  return f;
+}
+
+MatrixX2d to_uv_points(const py::handle& obj) {
+  py::array arr = py::array::ensure(obj);
+  PM_REQUIRE(arr && arr.ndim() == 2 && arr.shape(1) == 2 && (arr.dtype().kind() == 'f' || arr.dtype().kind() == 'i'),
+             InvalidInputError, "uv must be a numeric (k, 2) array");
+  auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+  MatrixX2d out(arr.shape(0), 2);
+  std::copy(data.data(), data.data() + data.size(), out.data());
+  return out;
+}
+
+}  // namespace
+
+void bind_paste(py::module_& m) {
+  py::class_<Feature>(m, "Feature",
+                      "A feature cut from a surface (extract_feature): positions in the feature frame "
+                      "(origin + axes, source coordinates), its fold-free map, the base surface and its "
+                      "map, and the displacement grid. to_arrays()/from_arrays() round-trip it exactly.")
+      .def_property_readonly("faces", [](const Feature& f) { return to_numpy(f.F); }, "(m, 3) int32")
+      .def_property_readonly("vertices", [](const Feature& f) { return to_numpy(f.V); },
+                             "(n, 3) feature positions, feature frame")
+      .def_property_readonly("uv", [](const Feature& f) { return to_numpy(f.uv); }, "(n, 2) feature map")
+      .def_property_readonly("base_vertices", [](const Feature& f) { return to_numpy(f.base_V); },
+                             "(n, 3) base surface, feature frame")
+      .def_property_readonly("base_uv", [](const Feature& f) { return to_numpy(f.base_uv); },
+                             "(n, 2) base map, area centroid at 0")
+      .def_property_readonly("boundary_loops",
+                             [](const Feature& f) {
+                               py::list loops;
+                               for (const auto& loop : f.boundary_loops) loops.append(to_numpy(loop));
+                               return loops;
+                             },
+                             "list of (k,) int32 vertex loops, in the order the faces traverse them")
+      .def_property_readonly("source_faces", [](const Feature& f) { return to_numpy(f.source_faces); })
+      .def_property_readonly("source_vertices", [](const Feature& f) { return to_numpy(f.source_vertices); })
+      .def_property_readonly("origin", [](const Feature& f) { return to_numpy(Eigen::VectorXd(f.origin)); },
+                             "(3,) frame origin in source coordinates")
+      .def_property_readonly("axes",
+                             [](const Feature& f) { return to_numpy(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(f.axes)); },
+                             "(3, 3) columns e_u, e_v, n in source coordinates: x_source = origin + axes @ x_frame")
+      .def_readonly("radius", &Feature::radius, "max |uv| over the boundary")
+      .def_readonly("area", &Feature::area)
+      .def_readonly("mean_edge_length", &Feature::mean_edge_length)
+      .def_readonly("resolution", &Feature::resolution)
+      .def_property_readonly("grid_origin", [](const Feature& f) { return to_numpy(Eigen::VectorXd(f.grid_origin)); },
+                             "uv of grid node [0, 0]")
+      .def_readonly("grid_spacing", &Feature::grid_spacing)
+      .def_property_readonly("displacement", [](const Feature& f) { return grid(f, f.displacement); },
+                             "(r, r, 3): node [i, j] at uv = grid_origin + grid_spacing * (j, i); "
+                             "components along e_u, e_v, n of the base's local frame")
+      .def_property_readonly("mask", [](const Feature& f) { return mask_grid(f); },
+                             "(r, r) uint8: 1 where the node is inside the map's domain")
+      .def("to_arrays", &to_arrays, "dict of numpy arrays (scalars as 0-d arrays) holding the whole feature")
+      .def_static("from_arrays", &from_arrays, py::arg("arrays"),
+                  "Feature from to_arrays()'s dict; shapes, index ranges and axes are checked "
+                  "(InvalidInputError)")
+      .def("__repr__", [](const Feature& f) {
+        return "<Feature faces=" + std::to_string(f.F.rows()) + " loops=" + std::to_string(f.boundary_loops.size()) +
+               " radius=" + std::to_string(f.radius) + " resolution=" + std::to_string(f.resolution) + ">";
+      });
+
+  m.def(
+      "extract_feature",
+      [](const py::object& V, const py::object& F, const py::object& feature_faces, int resolution,
+         const std::string& backend, py::object progress) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        const std::vector<Index> faces = to_indices(feature_faces, "feature_faces");
+        paste::ExtractFeatureOptions o;
+        o.resolution = resolution;
+        o.backend = compute::parse_backend(backend);
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] { return paste::extract_feature(v, f, faces, o, bridge.get()); });
+      },
+      py::arg("V"), py::arg("F"), py::arg("feature_faces"), py::kw_only(), py::arg("resolution") = 64,
+      py::arg("backend") = "auto", py::arg("progress") = py::none(),
+      R"doc(Cut a feature out of a surface for pasting (thesis 5.2): the selected faces must be one
+edge-connected disc or annulus. The base surface spans its boundary (biharmonic, tangent to
+the surroundings); the base map is a free-boundary isometric map centred at its area centroid;
+the feature map is isometric with its boundary pinned to the base map. Returns a Feature
+(positions in the feature frame at the base's uv = 0) with a resolution x resolution grid of
+nodes over [-radius, radius]^2 holding the displacement feature - base in the base's local frame.
+Raises EmptySelectionError, WholeMeshSelectedError, SelectionTopologyError, InvalidInputError,
+NonManifoldError, DegenerateFaceError, ConstraintError.)doc");
+
+  m.def(
+      "sample_feature",
+      [](const Feature& feature, const py::object& uv) {
+        const MatrixX2d q = to_uv_points(uv);
+        const paste::FeatureSample s = paste::sample_feature(feature, q);
+        py::dict d;
+        d["base"] = to_numpy(s.base);
+        d["e_u"] = to_numpy(s.e_u);
+        d["e_v"] = to_numpy(s.e_v);
+        d["n"] = to_numpy(s.n);
+        d["displacement"] = to_numpy(s.displacement);
+        d["position"] = to_numpy(s.position);
+        d["distance"] = to_numpy(s.distance);
+        return d;
+      },
+      py::arg("feature"), py::arg("uv"),
+      R"doc(The feature rebuilt at uv points (k, 2) of its domain: dict of base (base surface through
+the base map), e_u, e_v, n (its local frame), displacement (bilinear from the grid), position
+(base + frame @ displacement) — all (k, 3) in the feature frame — and distance (k,) to the domain.)doc");
+}
+
+}  // namespace paramorph::python
