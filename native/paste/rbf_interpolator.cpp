@@ -121,7 +121,8 @@ void RbfInterpolator::fill_row(const double* x, double* row, Index stride) const
       phi = r2 * r;
     } else {
       const double q = r / support_;
-      phi = q < 1.0 ? std::pow(1.0 - q, 4) * (4.0 * q + 1.0) : 0.0;
+      const double t = 1.0 - q, t2 = t * t;
+      phi = q < 1.0 ? t2 * t2 * (4.0 * q + 1.0) : 0.0;
     }
     row[stride * j] = phi;
   }
@@ -138,14 +139,13 @@ Eigen::MatrixXd RbfInterpolator::solve(const Eigen::MatrixXd& values) const {
   return lu_.solve(rhs);
 }
 
-Eigen::MatrixXd RbfInterpolator::evaluation_matrix(const Eigen::MatrixXd& points) const {
+RbfInterpolator::RowMajorXd RbfInterpolator::evaluation_matrix(const Eigen::MatrixXd& points) const {
   PM_REQUIRE(points.cols() == dimension(), InvalidInputError, "RBF points must be M by ",
              dimension(), ", got M by ", points.cols());
   PM_REQUIRE(all_finite(points), InvalidInputError, "RBF points have non-finite coordinates");
   const RowMajorXd X = normalized(points);
   const Index m = Index(X.rows()), size = num_centres() + polynomial_terms_;
-  // Row-major while filling (one point's row is contiguous), then one copy out.
-  RowMajorXd E(m, size);
+  RowMajorXd E(m, size);  // one point's row is contiguous while filling
 #pragma omp parallel for schedule(static) if (Index(m) * size > 100000)
   for (Index i = 0; i < m; ++i) fill_row(X.row(i).data(), E.row(i).data(), 1);
   return E;

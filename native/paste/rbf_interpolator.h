@@ -44,6 +44,9 @@ RbfBasis parse_rbf_basis(const std::string& name);
 
 class RbfInterpolator {
  public:
+  /// Row-major like the rest of the module boundary: numpy takes it in one copy.
+  using RowMajorXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
   /// centres: N by d control points x_i (d = 2 or 3), pairwise distinct and
   /// unisolvent for the polynomial (not all on one line for a linear p in 2D,
   /// not on one conic for a quadratic one, ...).
@@ -63,7 +66,7 @@ class RbfInterpolator {
 
   /// points: M by d. Returns the M by (N + P) matrix E with s(points) =
   /// E * coefficients, so a fixed point set is evaluated by one product.
-  Eigen::MatrixXd evaluation_matrix(const Eigen::MatrixXd& points) const;
+  RowMajorXd evaluation_matrix(const Eigen::MatrixXd& points) const;
 
   /// s at points (M by d) for coefficients from solve(): M by m.
   Eigen::MatrixXd evaluate(const Eigen::MatrixXd& points,
@@ -80,7 +83,6 @@ class RbfInterpolator {
  private:
   /// Internally every point is mapped by (x - shift_) / scale_ so the centres
   /// fit the unit ball: the conditioning test is then independent of units.
-  using RowMajorXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   RowMajorXd normalized(const Eigen::MatrixXd& points) const;
   /// Row [phi(|x - x_j|)_j, monomials(x)] of x (normalized, d contiguous
   /// coordinates), written with the given stride between entries.

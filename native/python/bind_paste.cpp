@@ -79,12 +79,13 @@ centres (e.g. collinear for a linear polynomial) and bad options.)doc")
           "evaluation_matrix",
           [](const RbfInterpolator& rbf, const py::object& points) {
             const Eigen::MatrixXd x = to_matrix(points, "points");
-            Eigen::MatrixXd E;
+            RbfInterpolator::RowMajorXd E;
             {
               py::gil_scoped_release release;
               E = rbf.evaluation_matrix(x);
             }
-            return to_numpy(E);
+            // Already row-major: one copy into numpy (E is M x (N+P), large).
+            return py::array_t<double>({py::ssize_t(E.rows()), py::ssize_t(E.cols())}, E.data());
           },
           py::arg("points"),
           "points (M, d) -> (M, N+P) matrix E with s(points) = E @ coefficients.")
