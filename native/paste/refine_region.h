@@ -46,7 +46,8 @@ struct RefinedRegion {
   MatrixX3d limit_normal;
   /// Per vertex: 1 when the vertex belongs to the refined region and is not on
   /// its rim (an edge between a region face and a face outside it, or a
-  /// boundary edge of the mesh); 0 otherwise.
+  /// boundary edge of the mesh); 0 otherwise (all 0 when nothing is refined:
+  /// level 0 or an empty region).
   VectorXi region_interior;
 };
 

@@ -125,3 +125,17 @@ def test_refine_region_errors():
         pm.refine_region(*meshes.zero_area_face(), [0], level=1)
     with pytest.raises(pm.InvalidInputError):
         pm.refine_region(*meshes.nan_vertex(), [0], level=1)
+
+
+def test_refine_region_keeps_genus_and_isolated_vertices():
+    V, F = meshes.torus()
+    region = np.arange(0, len(F), 2)  # every other face: neighbours with 1, 2 and 3 split edges
+    r = pm.refine_region(V, F, region, level=2)
+    check(V, F, region, 2, r)
+    report = pm.validate(r.V, r.F)
+    assert report.genus == 1 and report.boundary_edges == 0
+    V, F = meshes.loose_vertex()
+    r = pm.refine_region(V, F, np.arange(5), level=1)
+    loose = len(V) - 1
+    assert r.base_face[loose] == -1
+    assert np.array_equal(r.limit[loose], V[loose]) and not r.limit_normal[loose].any()
