@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <set>
 #include <vector>
@@ -116,12 +117,13 @@ TargetPatch patch_within(const TriMesh& target, Index anchor_face, const Eigen::
   in_patch[anchor_face] = 1;
   const Csr& corners = target.vertex_corners();
   Patch patch;
+  std::optional<TriMesh> local_mesh;  // the patch as a mesh, kept for the map below
   for (int attempt = 0;; ++attempt) {
     patch = local_patch(target, in_patch);
     PM_REQUIRE(Index(patch.faces.size()) < target.num_faces(), TargetTooSmallError,
                "the target is too small for the feature here: the region of radius ", radius,
                " around the anchor covers the whole target");
-    const TriMesh local(patch.local_positions, patch.local_faces);
+    const TriMesh& local = local_mesh.emplace(patch.local_positions, patch.local_faces);
     const auto& loops = local.boundary_loops();
     const Index euler = local.num_vertices() - Index(local.edges().rows()) + local.num_faces();
     if (loops.size() == 1 && euler == 1 && local.num_components() == 1) break;
@@ -154,7 +156,7 @@ TargetPatch patch_within(const TriMesh& target, Index anchor_face, const Eigen::
   result.faces = Eigen::Map<const VectorXi>(patch.faces.data(), Index(patch.faces.size())).cast<int>();
   result.vertices = Eigen::Map<const VectorXi>(patch.vertices.data(), Index(patch.vertices.size())).cast<int>();
   result.local_faces = patch.local_faces;
-  const TriMesh local(patch.local_positions, patch.local_faces);
+  const TriMesh& local = *local_mesh;
   MatrixX2d uv = planar::lscm_map(local);
   // Orientation: counter-clockwise in uv where the target's faces are.
   double signed_area = 0;
