@@ -25,17 +25,25 @@ using paste::Feature;
 
 namespace {
 
-/// A float64 array of exactly `shape` (a -1 entry: any size) from d[key].
-py::array_t<double, py::array::c_style | py::array::forcecast> float_array(const py::dict& d, const char* key,
-                                                                           std::vector<py::ssize_t> shape) {
+/// d[key] as an array of numeric `kinds` (numpy dtype kind letters) and
+/// exactly `shape` (a -1 entry: any size).
+py::array checked_array(const py::dict& d, const char* key, const char* kinds, const char* what,
+                        const std::vector<py::ssize_t>& shape) {
   PM_REQUIRE(d.contains(key), InvalidInputError, "feature arrays lack \"", key, "\"");
   py::array arr = py::array::ensure(d[key]);
-  PM_REQUIRE(arr && (arr.dtype().kind() == 'f' || arr.dtype().kind() == 'i'), InvalidInputError, "\"", key,
-             "\" must be a numeric array");
+  PM_REQUIRE(arr && std::string(kinds).find(arr.dtype().kind()) != std::string::npos, InvalidInputError,
+             "\"", key, "\" must be ", what);
   bool ok = arr.ndim() == py::ssize_t(shape.size());
   for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = shape[k] < 0 || arr.shape(k) == shape[k];
   PM_REQUIRE(ok, InvalidInputError, "\"", key, "\" has shape ", std::string(py::str(arr.attr("shape"))),
              ", expected ", std::string(py::str(py::tuple(py::cast(shape)))), " (-1: any)");
+  return arr;
+}
+
+/// A float64 array of exactly `shape` (a -1 entry: any size) from d[key].
+py::array_t<double, py::array::c_style | py::array::forcecast> float_array(const py::dict& d, const char* key,
+                                                                           std::vector<py::ssize_t> shape) {
+  py::array arr = checked_array(d, key, "fi", "a numeric array", shape);
   auto out = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
   PM_REQUIRE(std::all_of(out.data(), out.data() + out.size(), [](double x) { return std::isfinite(x); }),
              InvalidInputError, "\"", key, "\" must be finite");
@@ -44,14 +52,7 @@ py::array_t<double, py::array::c_style | py::array::forcecast> float_array(const
 
 py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> int_array(const py::dict& d, const char* key,
                                                                                std::vector<py::ssize_t> shape) {
-  PM_REQUIRE(d.contains(key), InvalidInputError, "feature arrays lack \"", key, "\"");
-  py::array arr = py::array::ensure(d[key]);
-  PM_REQUIRE(arr && (arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u'), InvalidInputError, "\"", key,
-             "\" must be an integer array");
-  bool ok = arr.ndim() == py::ssize_t(shape.size());
-  for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = shape[k] < 0 || arr.shape(k) == shape[k];
-  PM_REQUIRE(ok, InvalidInputError, "\"", key, "\" has shape ", std::string(py::str(arr.attr("shape"))),
-             ", expected ", std::string(py::str(py::tuple(py::cast(shape)))), " (-1: any)");
+  py::array arr = checked_array(d, key, "iu", "an integer array", shape);
   return py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);
 }
 
