@@ -86,20 +86,11 @@ Pattern tessellation_pattern(int rate) {
 }
 
 /// Throws the typed error for input OpenSubdiv cannot treat as a manifold.
-void require_manifold(const TriMesh& mesh) {
+void require_manifold_mesh(const TriMesh& mesh) {
   const MeshReport report = validate(mesh);
-  PM_REQUIRE(report.non_manifold_edges.empty(), NonManifoldError,
-             "edges with more than two faces: ",
-             format_vertex_pairs(report.non_manifold_edge_vertices));
-  PM_REQUIRE(report.non_manifold_vertices.empty(), NonManifoldError,
-             "vertices whose faces form several fans: ",
-             format_indices(report.non_manifold_vertices));
-  PM_REQUIRE(report.inconsistent_orientation_edges.empty(), NonManifoldError,
-             "faces not consistently oriented across edges ",
-             format_vertex_pairs(report.inconsistent_orientation_edge_vertices));
+  require_manifold(report);
   PM_REQUIRE(report.degenerate_faces.empty(), DegenerateFaceError,
-             "degenerate faces (repeated indices or zero area): ",
-             format_indices(report.degenerate_faces));
+             "degenerate faces (repeated indices or zero area): ", format_indices(report.degenerate_faces));
 }
 
 /// Loop limit position and normal at (face, bary) for the points listed in
@@ -166,7 +157,7 @@ struct RegionRefiner::Impl {
 RegionRefiner::RegionRefiner(const MatrixX3d& V, const MatrixX3i& F) {
   validate_arrays(V, F);
   impl_ = std::make_unique<Impl>(TriMesh(V, F));
-  require_manifold(impl_->mesh);
+  require_manifold_mesh(impl_->mesh);
   if (F.rows() == 0) return;
   Far::TopologyDescriptor desc;
   const std::vector<int> valences(std::size_t(F.rows()), 3);
