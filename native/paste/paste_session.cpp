@@ -272,7 +272,7 @@ struct PasteSession::Impl {
   Eigen::Vector3d anchor_point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();
   MatrixX3d out_V;
   MatrixX3i out_F;
-  VectorXi new_faces, replaced_faces;
+  VectorXi new_faces, replaced_faces, new_face_parents;
   PasteStats stats;
 
   Impl(const MatrixX3d& V_, const MatrixX3i& F_, Feature feature_, const PasteOptions& options_)
@@ -503,6 +503,7 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   out_F = std::move(refined_mesh.F);
   new_faces = std::move(refined_mesh.new_faces);
   replaced_faces = std::move(refined_mesh.replaced_faces);
+  new_face_parents = std::move(refined_mesh.new_face_parents);
   stats.level = level;
   stats.anchor_face = anchor_face;
   stats.refined_faces = Index(refined.size());
@@ -571,6 +572,7 @@ const MatrixX3d& PasteSession::V() const { return impl_->out_V; }
 const MatrixX3i& PasteSession::F() const { return impl_->out_F; }
 const VectorXi& PasteSession::new_faces() const { return impl_->new_faces; }
 const VectorXi& PasteSession::replaced_faces() const { return impl_->replaced_faces; }
+const VectorXi& PasteSession::new_face_parents() const { return impl_->new_face_parents; }
 const PasteOptions& PasteSession::options() const { return impl_->options; }
 const Eigen::Vector3d& PasteSession::anchor_point() const { return impl_->anchor_point; }
 const Eigen::Vector3d& PasteSession::normal() const { return impl_->normal; }

@@ -123,6 +123,8 @@ class PasteSession {
   const VectorXi& new_faces() const;
   /// Indices into the input F of the faces replaced (ascending).
   const VectorXi& replaced_faces() const;
+  /// Per new face: the input face it lies in (one of replaced_faces()).
+  const VectorXi& new_face_parents() const;
 
   const PasteOptions& options() const;     ///< the current placement and settings
   const Eigen::Vector3d& anchor_point() const;  ///< the snapped anchor

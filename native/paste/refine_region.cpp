@@ -329,6 +329,10 @@ RefinedRegion RegionRefiner::refine(const std::vector<Index>& region_faces, int 
     else out.F.row(row++) = F.row(f);
   }
   const Index first_new = row;
+  out.new_face_parents.resize(num_faces - first_new);
+  const auto emitted_by = [&](Index f, Index from) {  // rows [from, row) came from face f
+    for (Index k = from; k < row; ++k) out.new_face_parents(k - first_new) = f;
+  };
 
   // The global vertex of point j of the edge from corner k to corner k+1 of f.
   const auto edge_point = [&](Index f, int k, int j) -> Index {
@@ -349,16 +353,19 @@ RefinedRegion RegionRefiner::refine(const std::vector<Index>& region_faces, int 
       place(first_interior + i, f, 1.0 - uv[0] - uv[1], uv[0], uv[1]);
     }
     const int nb = int(pattern.boundary.size());
+    const Index from = row;
     for (const auto& facet : pattern.facets) {
       for (int c = 0; c < 3; ++c)
         out.F(row, c) = facet[c] < nb ? boundary_map[facet[c]] : first_interior + facet[c] - nb;
       ++row;
     }
+    emitted_by(f, from);
   }
 
   Index centroid = centroid_first;
   std::vector<Index> loop;
   for (const Index f : neighbours) {
+    const Index from = row;
     if (neighbour[f] == 1) {
       // Fan from the corner opposite the one split edge: no extra vertex.
       int k = 0;
@@ -368,6 +375,7 @@ RefinedRegion RegionRefiner::refine(const std::vector<Index>& region_faces, int 
       for (int j = 1; j < rate; ++j) loop.push_back(edge_point(f, k, j));
       loop.push_back(F(f, (k + 1) % 3));
       for (std::size_t q = 0; q + 1 < loop.size(); ++q) out.F.row(row++) << apex, loop[q], loop[q + 1];
+      emitted_by(f, from);
       continue;
     }
     // Two or three split edges: a fan from each corner would make flat
@@ -381,6 +389,7 @@ RefinedRegion RegionRefiner::refine(const std::vector<Index>& region_faces, int 
     }
     for (std::size_t q = 0; q < loop.size(); ++q)
       out.F.row(row++) << centroid, loop[q], loop[(q + 1) % loop.size()];
+    emitted_by(f, from);
     ++centroid;
   }
   assert(row == num_faces);

@@ -35,6 +35,10 @@ struct RefinedRegion {
   MatrixX3i F;
   /// Indices into F of every face that is not an original face, ascending.
   VectorXi new_faces;
+  /// Per new face (same order as new_faces): the input face it lies in (a
+  /// region face it tessellates, or the neighbour it re-triangulates), so
+  /// per-face data (materials, UVs) can follow.
+  VectorXi new_face_parents;
   /// Per vertex of V: the original face it lies on (-1 for an isolated input
   /// vertex) and its barycentric coordinates there (corner order of that
   /// face; V.row(i) == bary(i, k) * V_original.row(F(base_face(i), k)) summed).

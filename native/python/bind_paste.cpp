@@ -305,6 +305,10 @@ void def_refine_region(py::module_& m) {
                              "tessellations, then re-triangulated neighbours")
       .def_property_readonly("new_faces", [](const RefinedRegion& r) { return to_numpy(r.new_faces); },
                              "(k,) int32: rows of F that are not original faces")
+      .def_property_readonly("new_face_parents", [](const RefinedRegion& r) { return to_numpy(r.new_face_parents); },
+                             "(k,) int32: per new face, the input face it lies in")
+      .def_property_readonly("replaced_faces", [](const RefinedRegion& r) { return to_numpy(r.replaced_faces); },
+                             "(j,) int32: input faces not kept as they were (region and stitched neighbours)")
       .def_property_readonly("base_face", [](const RefinedRegion& r) { return to_numpy(r.base_face); },
                              "(n,) int32: the original face each vertex lies on (-1: isolated)")
       .def_property_readonly("bary", [](const RefinedRegion& r) { return to_numpy(r.bary); },
@@ -435,6 +439,8 @@ Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallE
           "ones; the untouched faces first in their order, then the new faces (indices new_faces)")
       .def_property_readonly("replaced_faces", [](const PasteSession& s) { return to_numpy(s.replaced_faces()); },
                              "indices into the input F of the faces not kept (ascending)")
+      .def_property_readonly("new_face_parents", [](const PasteSession& s) { return to_numpy(s.new_face_parents()); },
+                             "per new face, the input face it lies in (for materials, UVs)")
       .def_property_readonly("anchor_point", [](const PasteSession& s) { return to_numpy(Eigen::VectorXd(s.anchor_point())); },
                              "(3,) the snapped anchor")
       .def_property_readonly("normal", [](const PasteSession& s) { return to_numpy(Eigen::VectorXd(s.normal())); },

@@ -274,3 +274,28 @@ TEST(RegionRefiner, LimitAtPointsMatchesTheRefinedVertices) {
                InvalidInputError);
   EXPECT_THROW(refiner.refine({0}, 9), InvalidInputError);
 }
+
+// Every new face lies in its parent: its corners' base faces are the parent
+// or, for corners on the parent's edges and corners, share those points.
+TEST(RegionRefiner, NewFacesKnowTheFaceTheyCameFrom) {
+  const auto [V, F] = test_meshes::icosphere(2);
+  const RefinedRegion r = RegionRefiner(V, F).refine(scattered(Index(F.rows()), 7, 0.2), 2);
+  ASSERT_EQ(r.new_face_parents.size(), r.new_faces.size());
+  std::vector<char> replaced(F.rows(), 0);
+  for (Index k = 0; k < r.replaced_faces.size(); ++k) replaced[r.replaced_faces(k)] = 1;
+  for (Index k = 0; k < r.new_faces.size(); ++k) {
+    const Index parent = r.new_face_parents(k);
+    ASSERT_TRUE(replaced[parent]) << "new face " << k;
+    // The new face's centroid lies in its parent (barycentric coordinates >= 0).
+    const Eigen::Vector3d a = V.row(F(parent, 0)), b = V.row(F(parent, 1)), c = V.row(F(parent, 2));
+    const Eigen::Vector3d p = (r.V.row(r.F(r.new_faces(k), 0)) + r.V.row(r.F(r.new_faces(k), 1)) +
+                               r.V.row(r.F(r.new_faces(k), 2))).transpose() / 3;
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double area = n.squaredNorm();
+    const double l0 = (c - b).cross(p - b).dot(n) / area, l1 = (a - c).cross(p - c).dot(n) / area;
+    EXPECT_GE(l0, -1e-12);
+    EXPECT_GE(l1, -1e-12);
+    EXPECT_GE(1 - l0 - l1, -1e-12);
+    EXPECT_LE(std::abs((p - a).dot(n.normalized())), 1e-12);  // flat: in the parent's plane
+  }
+}

@@ -301,3 +301,12 @@ def test_progress_and_cancel(plane_feature, target_plane):
     assert seen[0] == 0.0 and seen[-1] == 1.0
     with pytest.raises(pm.Cancelled):
         pm.PasteSession(T, TF, plane_feature, anchor=[0, 0, 0], progress=lambda f, stage: False)
+
+
+def test_new_faces_name_the_face_they_replace(plane_feature, target_plane):
+    T, TF = target_plane
+    s = pm.PasteSession(T, TF, plane_feature, anchor=[0.2, 0.1, 0])
+    parents = s.new_face_parents
+    assert len(parents) == len(s.result()[2])
+    assert np.isin(parents, s.replaced_faces).all()
+    assert set(np.unique(parents)) == set(s.replaced_faces)  # every replaced face is covered
