@@ -1,0 +1,186 @@
+"""Writes a paste result (PasteSession.result()) into a Blender mesh, keeping
+what was not touched as it was: polygons none of whose loop triangles were
+replaced stay (quads stay quads) with all their data; polygons with a
+replaced triangle are removed, their unreplaced triangles come back as
+triangles and the new faces are added, each with the face data (material,
+smooth shading, face attributes) of the polygon it came from; vertices keep
+their data and take their new positions.
+
+The topology change goes through one BMesh round trip (which carries every
+layer: attributes, UVs, vertex groups, creases): the patch (new faces and
+the kept triangles of cut polygons) is appended as a mesh and welded to the
+old vertices, then the cut polygons are deleted. Temporary integer id
+attributes say afterwards which final element is which, so positions and
+face data are written with numpy, whatever order BMesh left them in."""
+import bmesh
+import bpy
+import numpy as np
+
+VERTEX_ID = "paramorph_paste_vertex_id"
+FACE_ID = "paramorph_paste_face_id"
+
+
+class PasteWriteError(Exception):
+    """The result does not fit the mesh it was computed for."""
+
+
+def plan(tri_poly, num_polygons, num_vertices, F, V2, F2, new_faces, replaced):
+    """What changes, from the session's result (all numpy):
+    cut: bool per polygon (a triangle of it was replaced);
+    patch_faces (k, 3) in V2's numbering: the kept triangles of cut polygons,
+    then the new faces; patch_source (k,) the polygon each came from
+    (new faces: filled later by nearest_source)."""
+    m = len(tri_poly)
+    replaced = np.asarray(replaced, dtype=np.int64)
+    new_faces = np.asarray(new_faces, dtype=np.int64)
+    is_replaced = np.zeros(m, dtype=bool)
+    is_replaced[replaced] = True
+    kept = np.flatnonzero(~is_replaced)
+    if len(F2) < len(kept) or not np.array_equal(F2[:len(kept)], F[kept]):
+        raise PasteWriteError("the paste result's untouched faces do not match the mesh")
+    if len(V2) < num_vertices:
+        raise PasteWriteError("the paste result has fewer vertices than the mesh")
+    cut = np.zeros(num_polygons, dtype=bool)
+    cut[tri_poly[replaced]] = True
+    partial = np.flatnonzero(cut[tri_poly[kept]])     # rows of F2 (kept triangles of cut polygons)
+    patch_faces = np.vstack([F2[partial], F2[new_faces]]).astype(np.int64)
+    patch_source = np.concatenate([tri_poly[kept[partial]], np.full(len(new_faces), -1)]).astype(np.int64)
+    return cut, patch_faces, patch_source
+
+
+def nearest_source(V, F, tri_poly, replaced, V2, faces):
+    """For each face of `faces` (V2 numbering), the polygon of the nearest
+    replaced triangle (centroids; brute force in chunks)."""
+    replaced = np.asarray(replaced, dtype=np.int64)
+    if len(faces) == 0:
+        return np.empty(0, dtype=np.int64)
+    polys = tri_poly[replaced]
+    if len(np.unique(polys)) == 1:
+        return np.full(len(faces), polys[0], dtype=np.int64)
+    old = V[F[replaced]].mean(axis=1)
+    new = V2[faces].mean(axis=1)
+    out = np.empty(len(faces), dtype=np.int64)
+    chunk = max(1, 4_000_000 // max(len(old), 1))
+    for start in range(0, len(new), chunk):  # chunks of faces, not a loop over elements
+        block = new[start:start + chunk]
+        d = ((block[:, None, :] - old[None, :, :]) ** 2).sum(axis=2)
+        out[start:start + chunk] = polys[d.argmin(axis=1)]
+    return out
+
+
+def _patch_mesh(V2, patch_faces, num_vertices):
+    """A mesh of the patch: the old vertices it uses (to weld), then every new
+    vertex in V2's order; ids: old vertex index, or V2 index for new ones."""
+    used_old = np.unique(patch_faces[patch_faces < num_vertices])
+    new_ids = np.arange(num_vertices, len(V2))
+    ids = np.concatenate([used_old, new_ids])
+    local = np.empty(len(V2), dtype=np.int64)
+    local[used_old] = np.arange(len(used_old))
+    local[new_ids] = len(used_old) + np.arange(len(new_ids))
+    faces = local[patch_faces]
+    mesh = bpy.data.meshes.new("paramorph paste patch")
+    mesh.vertices.add(len(ids))
+    mesh.vertices.foreach_set("co", V2[ids].astype(np.float32).ravel())
+    mesh.loops.add(3 * len(faces))
+    mesh.loops.foreach_set("vertex_index", faces.astype(np.int32).ravel())
+    mesh.polygons.add(len(faces))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(faces), 3, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_total", np.full(len(faces), 3, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    return mesh, used_old, ids
+
+
+def _set_ids(mesh, name, domain, values):
+    attribute = mesh.attributes.get(name) or mesh.attributes.new(name=name, type="INT", domain=domain)
+    attribute.data.foreach_set("value", np.ascontiguousarray(values, dtype=np.int32))
+
+
+def _get_ids(mesh, name):
+    attribute = mesh.attributes[name]
+    values = np.empty(len(attribute.data), dtype=np.int32)
+    attribute.data.foreach_get("value", values)
+    mesh.attributes.remove(attribute)
+    return values.astype(np.int64)
+
+
+def _face_layers(mesh):
+    """Face data to copy from source polygons: (collection, property, dtype, width)."""
+    layers = [(mesh.polygons, "material_index", np.int32, 1), (mesh.polygons, "use_smooth", bool, 1)]
+    for attribute in mesh.attributes:
+        if attribute.domain != "FACE" or attribute.name.startswith(".") or attribute.name in (
+                FACE_ID, "material_index", "sharp_face"):
+            continue
+        field, dtype, width = {"FLOAT": ("value", np.float32, 1), "INT": ("value", np.int32, 1),
+                               "BOOLEAN": ("value", bool, 1), "FLOAT_VECTOR": ("vector", np.float32, 3),
+                               "FLOAT_COLOR": ("color", np.float32, 4), "BYTE_COLOR": ("color", np.float32, 4),
+                               "FLOAT2": ("vector", np.float32, 2), "INT8": ("value", np.int32, 1)
+                               }.get(attribute.data_type, (None, None, None))
+        if field is not None:
+            layers.append((attribute.name, field, dtype, width))
+    return layers
+
+
+def _read(mesh, layer):
+    collection, field, dtype, width = layer
+    data = mesh.attributes[collection].data if isinstance(collection, str) else collection
+    values = np.empty(len(data) * width, dtype=dtype)
+    data.foreach_get(field, values)
+    return values.reshape(len(data), width) if width > 1 else values
+
+
+def _write(mesh, layer, values):
+    collection, field, dtype, width = layer
+    data = mesh.attributes[collection].data if isinstance(collection, str) else collection
+    data.foreach_set(field, np.ascontiguousarray(values, dtype=dtype).ravel())
+
+
+def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
+    """Writes the result into `mesh` (object-mode data). Returns a dict:
+    polygons kept, polygons removed, faces added, vertices added."""
+    n, P = len(mesh.vertices), len(mesh.polygons)
+    V2 = np.asarray(V2, dtype=np.float64)
+    F2 = np.asarray(F2, dtype=np.int64)
+    cut, patch_faces, patch_source = plan(tri_poly, P, n, F, V2, F2, new_faces, replaced)
+    is_new = patch_source < 0
+    patch_source[is_new] = nearest_source(V, F, tri_poly, replaced, V2, patch_faces[is_new])
+
+    face_layers = _face_layers(mesh)
+    old_face_data = [_read(mesh, layer) for layer in face_layers]
+
+    _set_ids(mesh, VERTEX_ID, "POINT", np.arange(n))
+    _set_ids(mesh, FACE_ID, "FACE", np.arange(P))
+    patch, used_old, ids = _patch_mesh(V2, patch_faces, n)
+    try:
+        _set_ids(patch, VERTEX_ID, "POINT", ids)
+        _set_ids(patch, FACE_ID, "FACE", P + np.arange(len(patch_faces)))
+        bm = bmesh.new()
+        try:
+            bm.from_mesh(mesh)
+            bm.from_mesh(patch)  # appended after the mesh's own elements
+            bm.verts.ensure_lookup_table()
+            bm.faces.ensure_lookup_table()
+            verts = bm.verts
+            # The patch's copies of old vertices (right after the n old ones) onto the old ones.
+            targetmap = dict(zip((verts[n + k] for k in range(len(used_old))),
+                                 (verts[int(i)] for i in used_old)))
+            doomed = [bm.faces[int(p)] for p in np.flatnonzero(cut)]
+            bmesh.ops.weld_verts(bm, targetmap=targetmap)  # touches only patch faces
+            # The cut polygons, and their edges and vertices no face uses any more.
+            bmesh.ops.delete(bm, geom=[f for f in doomed if f.is_valid], context="FACES")
+            bm.to_mesh(mesh)
+        finally:
+            bm.free()
+    finally:
+        bpy.data.meshes.remove(patch)
+
+    vertex_ids = _get_ids(mesh, VERTEX_ID)
+    face_ids = _get_ids(mesh, FACE_ID)
+    mesh.vertices.foreach_set("co", V2[vertex_ids].astype(np.float32).ravel())
+    source = np.where(face_ids < P, face_ids, patch_source[np.clip(face_ids - P, 0, None)])
+    for layer, values in zip(face_layers, old_face_data):
+        _write(mesh, layer, values[source])
+    mesh.update()
+    return {"kept": int(P - cut.sum()), "removed": int(cut.sum()), "added": int(is_new.sum()),
+            "triangulated": int((~is_new).sum()), "new_vertices": int(len(V2) - n),
+            "new_polygons": np.flatnonzero(face_ids >= P)}
+
