@@ -70,7 +70,7 @@ def nearest_source(V, F, tri_poly, replaced, V2, faces):
 
 def _patch_mesh(V2, patch_faces, num_vertices):
     """A mesh of the patch: the old vertices it uses (to weld), then every new
-    vertex in V2's order; ids: old vertex index, or V2 index for new ones."""
+    vertex in V2's order. Returns it and the old vertices it uses."""
     used_old = np.unique(patch_faces[patch_faces < num_vertices])
     new_ids = np.arange(num_vertices, len(V2))
     ids = np.concatenate([used_old, new_ids])
@@ -87,7 +87,7 @@ def _patch_mesh(V2, patch_faces, num_vertices):
     mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(faces), 3, dtype=np.int32))
     mesh.polygons.foreach_set("loop_total", np.full(len(faces), 3, dtype=np.int32))
     mesh.update(calc_edges=True)
-    return mesh, used_old, ids
+    return mesh, used_old
 
 
 def _set_ids(mesh, name, domain, values):
@@ -147,12 +147,13 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     face_layers = _face_layers(mesh)
     old_face_data = [_read(mesh, layer) for layer in face_layers]
 
-    _set_ids(mesh, VERTEX_ID, "POINT", np.arange(n))
-    _set_ids(mesh, FACE_ID, "FACE", np.arange(P))
-    patch, used_old, ids = _patch_mesh(V2, patch_faces, n)
+    # Ids 1.. on the mesh's own elements; the patch has no id layer, so its
+    # elements read 0 afterwards (BMesh fills appended elements' layers with
+    # defaults: it matches layers by type, not name, so the patch gets none).
+    _set_ids(mesh, VERTEX_ID, "POINT", np.arange(1, n + 1))
+    _set_ids(mesh, FACE_ID, "FACE", np.arange(1, P + 1))
+    patch, used_old = _patch_mesh(V2, patch_faces, n)
     try:
-        _set_ids(patch, VERTEX_ID, "POINT", ids)
-        _set_ids(patch, FACE_ID, "FACE", P + np.arange(len(patch_faces)))
         bm = bmesh.new()
         try:
             bm.from_mesh(mesh)
@@ -173,14 +174,50 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     finally:
         bpy.data.meshes.remove(patch)
 
-    vertex_ids = _get_ids(mesh, VERTEX_ID)
-    face_ids = _get_ids(mesh, FACE_ID)
+    # Vertices: the old ones that stay keep their order, then the new ones in V2's
+    # order (no vertex is created after one is deleted, so none moves up).
+    vertex_ids = _get_ids(mesh, VERTEX_ID) - 1
+    new_vertices = np.flatnonzero(vertex_ids < 0)
+    if len(new_vertices) != len(V2) - n:
+        raise PasteWriteError(f"{len(new_vertices)} new vertices written, {len(V2) - n} expected")
+    vertex_ids[new_vertices] = np.arange(n, len(V2))
     mesh.vertices.foreach_set("co", V2[vertex_ids].astype(np.float32).ravel())
+    # Faces: new ones found by their vertices (welding may have reordered them).
+    face_ids = _get_ids(mesh, FACE_ID) - 1
+    new_polygons = np.flatnonzero(face_ids < 0)
+    face_ids[new_polygons] = P + _match_triangles(mesh, new_polygons, vertex_ids, patch_faces, len(V2))
     source = np.where(face_ids < P, face_ids, patch_source[np.clip(face_ids - P, 0, None)])
     for layer, values in zip(face_layers, old_face_data):
         _write(mesh, layer, values[source])
     mesh.update()
     return {"kept": int(P - cut.sum()), "removed": int(cut.sum()), "added": int(is_new.sum()),
             "triangulated": int((~is_new).sum()), "new_vertices": int(len(V2) - n),
-            "new_polygons": np.flatnonzero(face_ids >= P)}
+            "new_polygons": new_polygons}
+
+
+def _match_triangles(mesh, polygons, vertex_ids, triangles, num_ids):
+    """For each polygon (triangles, final numbering; vertex_ids maps to V2's), the
+    row of `triangles` (V2 numbering) with the same three vertices."""
+    if len(polygons) != len(triangles):
+        raise PasteWriteError(f"{len(polygons)} new faces written, {len(triangles)} expected")
+    loop_start = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", loop_start)
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    if np.any(loop_total[polygons] != 3):
+        raise PasteWriteError("a new face is not a triangle")
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    corners = vertex_ids[loop_vertex[loop_start[polygons, None] + np.arange(3)]]
+
+    def keys(t):
+        t = np.sort(np.asarray(t, dtype=np.int64), axis=1)
+        return (t[:, 0] * num_ids + t[:, 1]) * num_ids + t[:, 2]
+
+    wanted, have = keys(triangles), keys(corners)
+    order = np.argsort(wanted)
+    at = np.clip(np.searchsorted(wanted[order], have), 0, len(order) - 1)
+    if not np.array_equal(wanted[order][at], have):
+        raise PasteWriteError("a new face has no counterpart in the paste result")
+    return order[at]
 
