@@ -290,6 +290,7 @@ def test_copy_feature_reports_bad_selections_and_stores_nothing():
 
 
 def test_paste_reports_what_is_missing_and_changes_nothing():
+    native()
     target = quad_sphere()
     activate(target)
     faces0 = len(target.data.polygons)
