@@ -28,8 +28,9 @@ def plan(tri_poly, num_polygons, num_vertices, F, V2, F2, new_faces, replaced):
     """What changes, from the session's result (all numpy):
     cut: bool per polygon (a triangle of it was replaced);
     patch_faces (k, 3) in V2's numbering: the kept triangles of cut polygons,
-    then the new faces; patch_source (k,) the polygon each came from
-    (new faces: filled later by nearest_source)."""
+    then the new faces;
+    patch_tri (k,) the triangle of F each came from (new faces: -1, filled
+    later by nearest_triangle)."""
     m = len(tri_poly)
     replaced = np.asarray(replaced, dtype=np.int64)
     new_faces = np.asarray(new_faces, dtype=np.int64)
@@ -44,28 +45,40 @@ def plan(tri_poly, num_polygons, num_vertices, F, V2, F2, new_faces, replaced):
     cut[tri_poly[replaced]] = True
     partial = np.flatnonzero(cut[tri_poly[kept]])     # rows of F2 (kept triangles of cut polygons)
     patch_faces = np.vstack([F2[partial], F2[new_faces]]).astype(np.int64)
-    patch_source = np.concatenate([tri_poly[kept[partial]], np.full(len(new_faces), -1)]).astype(np.int64)
-    return cut, patch_faces, patch_source
+    patch_tri = np.concatenate([kept[partial], np.full(len(new_faces), -1)]).astype(np.int64)
+    return cut, patch_faces, patch_tri
 
 
-def nearest_source(V, F, tri_poly, replaced, V2, faces):
-    """For each face of `faces` (V2 numbering), the polygon of the nearest
-    replaced triangle (centroids; brute force in chunks)."""
+def nearest_triangle(V, F, replaced, V2, faces):
+    """For each face of `faces` (V2 numbering), the replaced triangle (index
+    into F) whose centroid is nearest its centroid (brute force in chunks)."""
     replaced = np.asarray(replaced, dtype=np.int64)
     if len(faces) == 0:
         return np.empty(0, dtype=np.int64)
-    polys = tri_poly[replaced]
-    if len(np.unique(polys)) == 1:
-        return np.full(len(faces), polys[0], dtype=np.int64)
     old = V[F[replaced]].mean(axis=1)
     new = V2[faces].mean(axis=1)
     out = np.empty(len(faces), dtype=np.int64)
     chunk = max(1, 4_000_000 // max(len(old), 1))
     for start in range(0, len(new), chunk):  # chunks of faces, not a loop over elements
         block = new[start:start + chunk]
-        d = ((block[:, None, :] - old[None, :, :]) ** 2).sum(axis=2)
-        out[start:start + chunk] = polys[d.argmin(axis=1)]
+        d = (block * block).sum(axis=1)[:, None] - 2.0 * block @ old.T + (old * old).sum(axis=1)[None, :]
+        out[start:start + chunk] = replaced[d.argmin(axis=1)]
     return out
+
+
+def barycentric(points, A, B, C):
+    """(k, 3) weights of `points` projected onto triangles (A, B, C), clamped
+    to the triangle (non-negative, summing to 1)."""
+    v0, v1, v2 = B - A, C - A, points - A
+    d00, d01, d11 = (v0 * v0).sum(-1), (v0 * v1).sum(-1), (v1 * v1).sum(-1)
+    d20, d21 = (v2 * v0).sum(-1), (v2 * v1).sum(-1)
+    denom = d00 * d11 - d01 * d01
+    denom = np.where(np.abs(denom) > 1e-300, denom, 1.0)
+    b1 = (d11 * d20 - d01 * d21) / denom
+    b2 = (d00 * d21 - d01 * d20) / denom
+    w = np.clip(np.stack([1.0 - b1 - b2, b1, b2], axis=-1), 0.0, None)
+    total = w.sum(axis=-1, keepdims=True)
+    return np.where(total > 0, w / np.where(total > 0, total, 1.0), 1.0 / 3.0)
 
 
 def _patch_mesh(V2, patch_faces, num_vertices):
@@ -105,7 +118,7 @@ def _get_ids(mesh, name):
 
 def _face_layers(mesh):
     """Face data to copy from source polygons: (collection, property, dtype, width)."""
-    layers = [(mesh.polygons, "material_index", np.int32, 1), (mesh.polygons, "use_smooth", bool, 1)]
+    layers = [(("polygons",), "material_index", np.int32, 1), (("polygons",), "use_smooth", bool, 1)]
     for attribute in mesh.attributes:
         if attribute.domain != "FACE" or attribute.name.startswith(".") or attribute.name in (
                 FACE_ID, "material_index", "sharp_face"):
@@ -120,9 +133,52 @@ def _face_layers(mesh):
     return layers
 
 
+def _corner_layers(mesh):
+    """Corner data to interpolate on new faces: UV maps and corner attributes."""
+    layers = [(("uv", uv.name), "uv", np.float32, 2) for uv in mesh.uv_layers]
+    uv_names = {uv.name for uv in mesh.uv_layers}
+    for attribute in mesh.attributes:
+        if attribute.domain != "CORNER" or attribute.name.startswith(".") or attribute.name in uv_names:
+            continue
+        field, dtype, width = {"FLOAT": ("value", np.float32, 1), "INT": ("value", np.int32, 1),
+                               "FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT2": ("vector", np.float32, 2),
+                               "FLOAT_COLOR": ("color", np.float32, 4), "BYTE_COLOR": ("color", np.float32, 4),
+                               }.get(attribute.data_type, (None, None, None))
+        if field is not None:
+            layers.append((attribute.name, field, dtype, width))
+    return layers
+
+
+def _new_corners(mesh, polygons, vertex_ids, V, F, V2, triangles, tri_loops):
+    """For the new (triangle) polygons: their loops (k, 3), the barycentric
+    weights (k, 3, 3) of each corner in its source triangle, and the source
+    triangle's loops (k, 3, 3) (old loop numbering) the weights apply to."""
+    loop_start = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", loop_start)
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    loops = loop_start[polygons, None] + np.arange(3)
+    points = V2[vertex_ids[loop_vertex[loops]]]                   # (k, 3, 3)
+    corners3d = V[F[triangles]]                                   # (k, 3 sources, 3)
+    A, B, C = (corners3d[:, None, i, :] for i in range(3))
+    weights = barycentric(points, A, B, C)                        # (k, 3 corners, 3 sources)
+    sources = np.broadcast_to(tri_loops[triangles][:, None, :], weights.shape)
+    return loops, weights, sources
+
+
+def _data(mesh, where):
+    """The collection a layer lives in, looked up afresh (a BMesh round trip
+    replaces the mesh's layers): an attribute name, ("uv", name) or ("polygons",)."""
+    if isinstance(where, str):
+        return mesh.attributes[where].data
+    if where[0] == "uv":
+        return mesh.uv_layers[where[1]].data
+    return mesh.polygons
+
+
 def _read(mesh, layer):
     collection, field, dtype, width = layer
-    data = mesh.attributes[collection].data if isinstance(collection, str) else collection
+    data = _data(mesh, collection)
     values = np.empty(len(data) * width, dtype=dtype)
     data.foreach_get(field, values)
     return values.reshape(len(data), width) if width > 1 else values
@@ -130,7 +186,7 @@ def _read(mesh, layer):
 
 def _write(mesh, layer, values):
     collection, field, dtype, width = layer
-    data = mesh.attributes[collection].data if isinstance(collection, str) else collection
+    data = _data(mesh, collection)
     data.foreach_set(field, np.ascontiguousarray(values, dtype=dtype).ravel())
 
 
@@ -140,12 +196,19 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     n, P = len(mesh.vertices), len(mesh.polygons)
     V2 = np.asarray(V2, dtype=np.float64)
     F2 = np.asarray(F2, dtype=np.int64)
-    cut, patch_faces, patch_source = plan(tri_poly, P, n, F, V2, F2, new_faces, replaced)
-    is_new = patch_source < 0
-    patch_source[is_new] = nearest_source(V, F, tri_poly, replaced, V2, patch_faces[is_new])
+    cut, patch_faces, patch_tri = plan(tri_poly, P, n, F, V2, F2, new_faces, replaced)
+    is_new = patch_tri < 0
+    patch_tri[is_new] = nearest_triangle(V, F, replaced, V2, patch_faces[is_new])
+    patch_source = tri_poly[patch_tri]
 
     face_layers = _face_layers(mesh)
     old_face_data = [_read(mesh, layer) for layer in face_layers]
+    corner_layers = _corner_layers(mesh)
+    old_corner_data = [_read(mesh, layer) for layer in corner_layers]
+    mesh.calc_loop_triangles()
+    tri_loops = np.empty(3 * len(mesh.loop_triangles), dtype=np.int32)
+    mesh.loop_triangles.foreach_get("loops", tri_loops)
+    tri_loops = tri_loops.reshape(-1, 3)
 
     # Ids 1.. on the mesh's own elements; the patch has no id layer, so its
     # elements read 0 afterwards (BMesh fills appended elements' layers with
@@ -189,6 +252,21 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     source = np.where(face_ids < P, face_ids, patch_source[np.clip(face_ids - P, 0, None)])
     for layer, values in zip(face_layers, old_face_data):
         _write(mesh, layer, values[source])
+    # Corners of the new faces (UVs, colours): interpolated in the triangle they
+    # came from, at their position projected onto it.
+    if corner_layers and len(new_polygons):
+        loops, weights, corners = _new_corners(mesh, new_polygons, vertex_ids, V, F, V2,
+                                               patch_tri[face_ids[new_polygons] - P], tri_loops)
+        for layer, old in zip(corner_layers, old_corner_data):
+            values = _read(mesh, layer)
+            source_values = old[corners]                          # (k, 3 corners, 3 sources[, width])
+            if layer[2] in (np.float32, np.float64):
+                w = weights if source_values.ndim == 3 else weights[..., None]
+                values[loops] = (w * source_values).sum(axis=2)
+            else:                                                 # integers: the nearest corner's
+                pick = weights.argmax(axis=2)
+                values[loops] = np.take_along_axis(source_values, pick[..., None], axis=2)[..., 0]
+            _write(mesh, layer, values)
     mesh.update()
     return {"kept": int(P - cut.sum()), "removed": int(cut.sum()), "added": int(is_new.sum()),
             "triangulated": int((~is_new).sum()), "new_vertices": int(len(V2) - n),

@@ -316,3 +316,41 @@ def test_a_feature_too_large_for_the_target_is_reported():
     with pytest.raises(RuntimeError, match="does not fit there"):
         bpy.ops.paramorph.paste_feature(location=(0, 0, 0.3), scale=3.0)
     assert len(small.data.polygons) == faces0
+
+
+def test_new_faces_take_uvs_and_colours_from_the_faces_they_replaced():
+    native()
+    copy_boss()
+    target = quad_sphere()
+    activate(target)
+    mesh = target.data
+    bpy.ops.mesh.uv_texture_add()  # the UV sphere's own UVs: "UVMap" exists already
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    V0 = coordinates(mesh)
+    # Planar UVs (x, y) and a colour (z) from the corner's position: smooth fields.
+    uv = V0[loop_vertex, :2].astype(np.float32)
+    mesh.uv_layers.active.data.foreach_set("uv", uv.ravel())
+    colour = regions.attribute_for_writing(mesh, "shade", "FLOAT_COLOR", "CORNER")
+    rgba = np.ones((len(mesh.loops), 4), dtype=np.float32)
+    rgba[:, 0] = V0[loop_vertex, 2]
+    colour.data.foreach_set("color", rgba.ravel())
+    assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6)) == {"FINISHED"}
+
+    V = coordinates(mesh)
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    total, _, _, _ = polygon_arrays(mesh)
+    new_loops = np.repeat(regions.selected_polygons(mesh), total)
+    uv = np.empty(2 * len(mesh.loops), dtype=np.float32)
+    mesh.uv_layers.active.data.foreach_get("uv", uv)
+    uv = uv.reshape(-1, 2)[new_loops]
+    # The feature's corners sit over the surface they replaced: their UVs are
+    # where that surface was (x, y of the projection; the boss is 0.3 high, on the top).
+    xy = V[loop_vertex[new_loops], :2]
+    assert np.abs(uv - xy).max() < 0.25 and np.abs(uv - xy).mean() < 0.05
+    assert np.abs(uv).max() > 0.2  # not all zero
+    rgba = np.empty(4 * len(mesh.loops), dtype=np.float32)
+    mesh.attributes["shade"].data.foreach_get("color", rgba)
+    red = rgba.reshape(-1, 4)[new_loops, 0]
+    assert red.min() > 1.2 and red.max() <= 1.6 + 1e-5  # z of the replaced top, not 0
