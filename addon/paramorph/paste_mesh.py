@@ -210,6 +210,37 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     mesh.loop_triangles.foreach_get("loops", tri_loops)
     tri_loops = tri_loops.reshape(-1, 3)
 
+    backup = mesh.copy()  # a failure half way puts everything back
+    try:
+        new_polygons = _rebuild(mesh, n, P, V, F, V2, cut, patch_faces, patch_tri, patch_source,
+                                face_layers, old_face_data, corner_layers, old_corner_data, tri_loops)
+    except BaseException:
+        _restore(mesh, backup)
+        raise
+    finally:
+        bpy.data.meshes.remove(backup)
+    mesh.update()
+    return {"kept": int(P - cut.sum()), "removed": int(cut.sum()), "added": int(is_new.sum()),
+            "triangulated": int((~is_new).sum()), "new_vertices": int(len(V2) - n),
+            "new_polygons": new_polygons}
+
+
+def _restore(mesh, backup):
+    bm = bmesh.new()
+    try:
+        bm.from_mesh(backup)
+        bm.to_mesh(mesh)
+    finally:
+        bm.free()
+    for name in (VERTEX_ID, FACE_ID):
+        if mesh.attributes.get(name) is not None:
+            mesh.attributes.remove(mesh.attributes[name])
+    mesh.update()
+
+
+def _rebuild(mesh, n, P, V, F, V2, cut, patch_faces, patch_tri, patch_source,
+             face_layers, old_face_data, corner_layers, old_corner_data, tri_loops):
+    """The BMesh round trip and the numpy writes after it; returns the new polygons."""
     # Ids 1.. on the mesh's own elements; the patch has no id layer, so its
     # elements read 0 afterwards (BMesh fills appended elements' layers with
     # defaults: it matches layers by type, not name, so the patch gets none).
@@ -267,10 +298,7 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
                 pick = weights.argmax(axis=2)
                 values[loops] = np.take_along_axis(source_values, pick[..., None], axis=2)[..., 0]
             _write(mesh, layer, values)
-    mesh.update()
-    return {"kept": int(P - cut.sum()), "removed": int(cut.sum()), "added": int(is_new.sum()),
-            "triangulated": int((~is_new).sum()), "new_vertices": int(len(V2) - n),
-            "new_polygons": new_polygons}
+    return new_polygons
 
 
 def _match_triangles(mesh, polygons, vertex_ids, triangles, num_ids):

@@ -354,3 +354,24 @@ def test_new_faces_take_uvs_and_colours_from_the_faces_they_replaced():
     mesh.attributes["shade"].data.foreach_get("color", rgba)
     red = rgba.reshape(-1, 4)[new_loops, 0]
     assert red.min() > 1.2 and red.max() <= 1.6 + 1e-5  # z of the replaced top, not 0
+
+
+def test_a_write_that_fails_half_way_leaves_the_mesh_as_it_was(monkeypatch):
+    native()
+    copy_boss()
+    target = quad_sphere()
+    activate(target)
+    mesh = target.data
+    V0, total0 = coordinates(mesh), polygon_arrays(mesh)[0]
+    attributes0 = sorted(a.name for a in mesh.attributes)
+    from paramorph import paste_mesh
+
+    def broken(*args):
+        raise paste_mesh.PasteWriteError("simulated failure")
+    monkeypatch.setattr(paste_mesh, "_match_triangles", broken)
+    with pytest.raises(RuntimeError, match="simulated failure: the mesh was left as it was"):
+        bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6))
+    np.testing.assert_array_equal(coordinates(mesh), V0)
+    np.testing.assert_array_equal(polygon_arrays(mesh)[0], total0)
+    assert sorted(a.name for a in mesh.attributes) == attributes0
+    assert np.all(edge_face_counts(mesh) == 2)
