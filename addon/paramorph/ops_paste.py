@@ -273,16 +273,37 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         start = _surface_under_mouse(context, obj, bvh, event)
         if start is None:
             start = cursor_in_object(context, obj)
-        try:
-            session = native.PasteSession(V, F, feature, anchor=start, **self._options())
-        except ValueError as error:
-            self.report({"ERROR"}, self._describe(error, V, F))
+        # The session is built in a thread (progress in the header, Esc cancels),
+        # then the tool takes the mouse.
+        self._state = {"object": obj, "datablock": datablock, "bvh": bvh, "arrays": (V, F, tri_poly),
+                       "job": NativeJob(native.PasteSession, V, F, feature, anchor=start,
+                                        **self._options()).start()}
+        wm = context.window_manager
+        self._state["timer"] = wm.event_timer_add(0.05, window=context.window)
+        wm.modal_handler_add(self)
+        _set_phase("building")
+        return {"RUNNING_MODAL"}
+
+    def _building(self, context, event):
+        """The modal step while the session is being built."""
+        job = self._state["job"]
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            job.cancel()
+        if not job.done():
+            if event.type == "TIMER":
+                context.area.header_text_set(f"Paste Feature: {job.stage} {100 * job.fraction:.0f}%  (Esc to cancel)")
+            return {"PASS_THROUGH"} if event.type in _NAVIGATION else {"RUNNING_MODAL"}
+        context.window_manager.event_timer_remove(self._state.pop("timer"))
+        V, F, tri_poly = self._state["arrays"]
+        if job.error is not None:
+            self._end(context)
+            level = {"WARNING"} if isinstance(job.error, native.Cancelled) else {"ERROR"}
+            self.report(level, self._describe(job.error, V, F))
             return {"CANCELLED"}
-        self._controller = PasteController(session, V, F, tri_poly, self.rotation, self.scale)
-        self._state = {"object": obj, "datablock": datablock, "bvh": bvh}
+        self._controller = PasteController(job.result, V, F, tri_poly, self.rotation, self.scale)
         paste_preview.start()
         self._refresh(context)
-        context.window_manager.modal_handler_add(self)
+        _set_phase("placing")
         return {"RUNNING_MODAL"}
 
     def _refresh(self, context):
@@ -294,6 +315,8 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         context.area.tag_redraw()
 
     def modal(self, context, event):
+        if self._controller is None:
+            return self._building(context, event)
         controller, state = self._controller, self._state
         action = controller.handle(event, lambda: _surface_under_mouse(context, state["object"], state["bvh"], event))
         if action == "PASS":
@@ -313,13 +336,31 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
             return {"CANCELLED"}
 
     def _end(self, context):
+        _set_phase(None)
+        timer = self._state.pop("timer", None) if self._state else None
+        if timer is not None:
+            context.window_manager.event_timer_remove(timer)
         paste_preview.stop()
         if context.area is not None:
             context.area.header_text_set(None)
             context.area.tag_redraw()
 
-    def cancel(self, context):
+    def cancel(self, context):  # Blender closes the window or aborts the tool
+        job = self._state.get("job") if self._state else None
+        if job is not None and not job.done():
+            job.cancel()
+            job.wait()
         self._end(context)
+
+
+# What the interactive tool is doing: None, "building" (the session, in a
+# thread) or "placing" (following the mouse). Scripts and the GUI test read it.
+phase = None
+
+
+def _set_phase(value):
+    global phase
+    phase = value
 
 
 _NAVIGATION = {"MIDDLEMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "NDOF_MOTION", "NUMPAD_1", "NUMPAD_2",

@@ -102,12 +102,21 @@ def simulate(kind, value="PRESS", **keys):
 
 def modal_invoke(label):
     def invoke():
+        stats["waits"] = 0
         x, y = centre_of_region()
         simulate("MOUSEMOVE", "NOTHING", xy=(x, y))  # the mouse over the target's middle
         window, area, region = view3d()
         with bpy.context.temp_override(window=window, area=area, region=region):
             stats[label] = {"invoke": sorted(bpy.ops.paramorph.paste_feature("INVOKE_DEFAULT", True))}
     return invoke
+
+
+def wait_placing():
+    """Repeats (by re-inserting itself) until the tool follows the mouse (at most 60 s)."""
+    from paramorph import ops_paste
+    stats["waits"] = stats.get("waits", 0) + 1
+    if ops_paste.phase != "placing" and stats["waits"] < 120:
+        steps.insert(0, wait_placing)
 
 
 def modal_drive():
@@ -165,9 +174,9 @@ def finish():
 
 
 steps = [setup, None, paste_exec_and_undo, None,
-         picture("before"), modal_invoke("first"), None, modal_drive, None, picture("preview"),
+         picture("before"), modal_invoke("first"), wait_placing, None, modal_drive, None, picture("preview"),
          modal_cancel, None, record("cancelled"),
-         modal_invoke("second"), None, modal_drive, None, modal_confirm, None, record("confirmed"),
+         modal_invoke("second"), wait_placing, None, modal_drive, None, modal_confirm, None, record("confirmed"),
          undo_last, None, finish]
 
 
