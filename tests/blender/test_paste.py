@@ -102,6 +102,18 @@ def activate(obj):
     bpy.context.view_layer.objects.active = obj
 
 
+def test_copy_and_paste_are_registered_undoable_and_in_the_menus():
+    for idname in ("copy_feature", "paste_feature"):
+        rna = getattr(bpy.ops.paramorph, idname).get_rna_type()
+        assert rna.name and rna.description, idname  # F3 search shows name and tooltip
+        assert {"REGISTER", "UNDO"} <= set(getattr(bpy.types, f"PARAMORPH_OT_{idname}").bl_options)
+    # The redo panel mirrors the session's options.
+    names = {p.identifier for p in bpy.ops.paramorph.paste_feature.get_rna_type().properties}
+    assert {"location", "rotation", "scale", "blend_radius", "subdivision_level", "basis", "fit"} <= names
+    draw_funcs = [f.__name__ for f in bpy.types.VIEW3D_MT_edit_mesh._dyn_ui_initialize()]
+    assert "_menu_entries" in draw_funcs
+
+
 def test_copy_feature_stores_a_feature_that_survives_save_and_reload(tmp_path):
     pm = bridge.require_native()
     plate, count = copy_boss()
