@@ -172,20 +172,44 @@ MeshReport validate(const TriMesh& mesh, double relative_area_tolerance) {
   return r;
 }
 
-void require_closed_genus0(const MeshReport& r) {
-  const std::string select_hint = " (Select > Select All by Trait > Non Manifold shows them)";
+namespace {
+
+const char* const kSelectHint = " (Select > Select All by Trait > Non Manifold shows them)";
+
+void require_fans(const MeshReport& r) {
   if (!r.non_manifold_edges.empty())
     throw NonManifoldError(detail::concat(
         "mesh is not manifold: ", count_of(r.non_manifold_edges.size(), "edge is", "edges are"),
         " shared by more than two faces, between vertices ",
-        format_vertex_pairs(r.non_manifold_edge_vertices), select_hint,
+        format_vertex_pairs(r.non_manifold_edge_vertices), kSelectHint,
         "; delete or separate the extra faces"));
   if (!r.non_manifold_vertices.empty())
     throw NonManifoldError(detail::concat(
         "mesh is not manifold: the faces around ",
         count_of(r.non_manifold_vertices.size(), "vertex", "vertices"),
         " do not form a single fan (surfaces touching at one point): vertices ",
-        format_indices(r.non_manifold_vertices), select_hint, "; split or merge them"));
+        format_indices(r.non_manifold_vertices), kSelectHint, "; split or merge them"));
+}
+
+void require_oriented(const MeshReport& r) {
+  if (!r.inconsistent_orientation_edges.empty())
+    throw NonManifoldError(detail::concat(
+        "mesh is not consistently oriented: ",
+        count_of(r.inconsistent_orientation_edges.size(), "edge is", "edges are"),
+        " run in the same direction by both of its faces, between vertices ",
+        format_vertex_pairs(r.inconsistent_orientation_edge_vertices),
+        "; recalculate normals first (Mesh > Normals > Recalculate Outside)"));
+}
+
+}  // namespace
+
+void require_manifold(const MeshReport& r) {
+  require_fans(r);
+  require_oriented(r);
+}
+
+void require_closed_genus0(const MeshReport& r) {
+  require_fans(r);
   if (!r.degenerate_faces.empty())
     throw DegenerateFaceError(detail::concat(
         "mesh has ", count_of(r.degenerate_faces.size(), "degenerate face", "degenerate faces"),
@@ -207,13 +231,7 @@ void require_closed_genus0(const MeshReport& r) {
         "mesh has ", count_of(std::size_t(isolated), "loose vertex", "loose vertices"),
         " in no face (", format_indices(r.isolated_vertices),
         "); delete them (Mesh > Clean Up > Delete Loose)"));
-  if (!r.inconsistent_orientation_edges.empty())
-    throw NonManifoldError(detail::concat(
-        "mesh is not consistently oriented: ",
-        count_of(r.inconsistent_orientation_edges.size(), "edge is", "edges are"),
-        " run in the same direction by both of its faces, between vertices ",
-        format_vertex_pairs(r.inconsistent_orientation_edge_vertices),
-        "; recalculate normals first (Mesh > Normals > Recalculate Outside)"));
+  require_oriented(r);
   if (r.genus != 0) {
     if (r.genus < 0)
       throw NotGenusZeroError(

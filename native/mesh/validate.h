@@ -41,6 +41,13 @@ void validate_arrays(const MatrixX3d& V, const MatrixX3i& F);
 MeshReport validate(const TriMesh& mesh, double relative_area_tolerance = 1e-14);
 
 /// Throws the matching MeshError subclass unless the mesh is a closed,
+/// Throws NonManifoldError unless every edge has at most two faces, the faces
+/// around every vertex form one fan and neighbouring faces agree on their
+/// orientation; the message names the offending vertices and edges (as
+/// vertex pairs) and says how to fix them in Blender. Open or closed, any
+/// genus: what every algorithm that walks the surface needs.
+void require_manifold(const MeshReport& report);
+
 /// connected, manifold, consistently oriented genus-0 surface without
 /// degenerate faces or isolated vertices. Checks in this order: non-manifold,
 /// degenerate, several surfaces, not closed (says how many boundary loops),

@@ -32,10 +32,8 @@ auto stage(const char* name, double lo, double hi, Progress* parent, Work&& work
   return work(parent ? &inner : nullptr);
 }
 
-void require_manifold_source(const MeshReport& r, const SelectionPatch& patch) {
-  if (!r.non_manifold_edges.empty() || !r.non_manifold_vertices.empty() ||
-      !r.inconsistent_orientation_edges.empty())
-    require_closed_genus0(r);  // its messages name the non-manifold / misoriented elements
+/// Degenerate faces matter only inside the selection (the rest is not touched).
+void require_sound_selection(const MeshReport& r, const SelectionPatch& patch) {
   std::vector<Index> bad;
   for (Index f : r.degenerate_faces)
     if (std::binary_search(patch.faces.data(), patch.faces.data() + patch.faces.size(), f))
@@ -98,8 +96,9 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   validate_arrays(V, F);
   const TriMesh mesh(V, F);
   const MeshReport report = validate(mesh);
+  require_manifold(report);  // before the selection, whose edge walks need a manifold
   SelectionPatch patch = selection_patch(mesh, feature_faces);
-  require_manifold_source(report, patch);
+  require_sound_selection(report, patch);
   const Index n = Index(patch.vertices.size());
 
   // Work at unit scale around the feature: the maps' tolerances then see the

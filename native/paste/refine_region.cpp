@@ -9,11 +9,14 @@
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <type_traits>
+#include <unordered_map>
 
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
@@ -83,64 +86,38 @@ Pattern tessellation_pattern(int rate) {
 }
 
 /// Throws the typed error for input OpenSubdiv cannot treat as a manifold.
-void require_manifold(const TriMesh& mesh) {
+void require_manifold_mesh(const TriMesh& mesh) {
   const MeshReport report = validate(mesh);
-  PM_REQUIRE(report.non_manifold_edges.empty(), NonManifoldError,
-             "edges with more than two faces: ",
-             format_vertex_pairs(report.non_manifold_edge_vertices));
-  PM_REQUIRE(report.non_manifold_vertices.empty(), NonManifoldError,
-             "vertices whose faces form several fans: ",
-             format_indices(report.non_manifold_vertices));
-  PM_REQUIRE(report.inconsistent_orientation_edges.empty(), NonManifoldError,
-             "faces not consistently oriented across edges ",
-             format_vertex_pairs(report.inconsistent_orientation_edge_vertices));
+  require_manifold(report);
   PM_REQUIRE(report.degenerate_faces.empty(), DegenerateFaceError,
-             "degenerate faces (repeated indices or zero area): ",
-             format_indices(report.degenerate_faces));
+             "degenerate faces (repeated indices or zero area): ", format_indices(report.degenerate_faces));
 }
 
-/// Loop limit position and normal of every vertex at (base_face, bary), with
-/// Bfr on the whole mesh: one SurfaceFactory per thread, one Surface per face.
-void evaluate_limit(const MatrixX3d& V0, const MatrixX3i& F0, RefinedRegion& out) {
-  const Index n = Index(out.V.rows()), faces = Index(F0.rows());
-  out.limit = out.V;
-  out.limit_normal = MatrixX3d::Zero(n, 3);
-  if (faces == 0) return;
-
-  Far::TopologyDescriptor desc;
-  const std::vector<int> valences(std::size_t(faces), 3);
-  desc.numVertices = int(V0.rows());
-  desc.numFaces = int(faces);
-  desc.numVertsPerFace = valences.data();
-  desc.vertIndicesPerFace = F0.data();
-  Sdc::Options sdc;
-  sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  const std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
-  PM_REQUIRE(refiner, NonManifoldError, "OpenSubdiv could not build the mesh's topology");
-
-  // Vertices grouped by base face (counting sort), so each Surface is built once.
-  std::vector<Index> offsets(std::size_t(faces) + 1, 0);
-  std::vector<Index> order(static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i)
-    if (out.base_face(i) >= 0) ++offsets[out.base_face(i) + 1];
-  for (Index f = 0; f < faces; ++f) offsets[f + 1] += offsets[f];
-  {
-    std::vector<Index> cursor(offsets.begin(), offsets.end() - 1);
-    for (Index i = 0; i < n; ++i)
-      if (out.base_face(i) >= 0) order[cursor[out.base_face(i)]++] = i;
-  }
+/// Loop limit position and normal at (face, bary) for the points listed in
+/// `which` (indices into faces/bary); P and N are written at those rows only.
+void evaluate_limit(const Far::TopologyRefiner& refiner, const MatrixX3d& V0, const MatrixX3i& F0,
+                    const VectorXi& faces, const MatrixX3d& bary, const std::vector<Index>& which,
+                    MatrixX3d& P, MatrixX3d* N) {
+  const Index nf = Index(F0.rows());
+  if (which.empty() || nf == 0) return;
+  // Points grouped by face (sort), so each Surface is built once.
+  std::vector<Index> order(which);
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return faces(a) < faces(b); });
+  std::vector<std::size_t> starts;
+  for (std::size_t k = 0; k < order.size(); ++k)
+    if (k == 0 || faces(order[k]) != faces(order[k - 1])) starts.push_back(k);
+  starts.push_back(order.size());
 
   const Bfr::Surface<double>::PointDescriptor point(3);
-#pragma omp parallel
+  const std::int64_t groups = std::int64_t(starts.size()) - 1;
+#pragma omp parallel if (groups > 64)
   {
-    const Bfr::RefinerSurfaceFactory<> factory(*refiner);
+    const Bfr::RefinerSurfaceFactory<> factory(refiner);
     Bfr::Surface<double> surface;
     std::vector<double> patch;
-#pragma omp for schedule(dynamic, 256)
-    for (Index f = 0; f < faces; ++f) {
-      if (offsets[f] == offsets[f + 1]) continue;
+#pragma omp for schedule(dynamic, 64)
+    for (std::int64_t g = 0; g < groups; ++g) {
+      const Index f = faces(order[starts[g]]);
       const bool ok = factory.InitVertexSurface(f, &surface);
       if (ok) {
         patch.resize(3 * std::size_t(surface.GetNumPatchPoints()));
@@ -148,21 +125,22 @@ void evaluate_limit(const MatrixX3d& V0, const MatrixX3i& F0, RefinedRegion& out
       }
       const Eigen::RowVector3d a = V0.row(F0(f, 0)), b = V0.row(F0(f, 1)), c = V0.row(F0(f, 2));
       const Eigen::RowVector3d flat_normal = (b - a).cross(c - a).normalized();
-      for (Index k = offsets[f]; k < offsets[f + 1]; ++k) {
+      for (std::size_t k = starts[g]; k < starts[g + 1]; ++k) {
         const Index i = order[k];
-        // Bfr's triangle parameterization: corner 0 at (0, 0), 1 at (1, 0), 2 at (0, 1).
-        const double uv[2] = {out.bary(i, 1), out.bary(i, 2)};
-        Eigen::RowVector3d P, du, dv;
         if (!ok) {  // no limit surface for this face: keep it flat
-          out.limit_normal.row(i) = flat_normal;
+          P.row(i) = bary(i, 0) * a + bary(i, 1) * b + bary(i, 2) * c;
+          if (N) N->row(i) = flat_normal;
           continue;
         }
-        surface.Evaluate(uv, patch.data(), point, P.data(), du.data(), dv.data());
-        const Eigen::RowVector3d normal = du.cross(dv);
-        out.limit.row(i) = P;
+        // Bfr's triangle parameterization: corner 0 at (0, 0), 1 at (1, 0), 2 at (0, 1).
+        const double uv[2] = {bary(i, 1), bary(i, 2)};
+        Eigen::RowVector3d X, du, dv;
+        surface.Evaluate(uv, patch.data(), point, X.data(), du.data(), dv.data());
+        P.row(i) = X;
         // Du x Dv vanishes only where the parameterization degenerates; the
         // flat normal is then the best local answer.
-        out.limit_normal.row(i) = normal.norm() > 1e-300 ? normal.normalized() : flat_normal;
+        const Eigen::RowVector3d normal = du.cross(dv);
+        if (N) N->row(i) = normal.norm() > 1e-300 ? normal.normalized() : flat_normal;
       }
     }
   }
@@ -170,72 +148,128 @@ void evaluate_limit(const MatrixX3d& V0, const MatrixX3i& F0, RefinedRegion& out
 
 }  // namespace
 
-RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
-                            const std::vector<Index>& region_faces, int level,
-                            Progress* progress) {
+struct RegionRefiner::Impl {
+  TriMesh mesh;
+  std::unique_ptr<Far::TopologyRefiner> refiner;  ///< null for a mesh without faces
+  explicit Impl(TriMesh m) : mesh(std::move(m)) {}
+};
+
+RegionRefiner::RegionRefiner(const MatrixX3d& V, const MatrixX3i& F) {
   validate_arrays(V, F);
+  impl_ = std::make_unique<Impl>(TriMesh(V, F));
+  require_manifold_mesh(impl_->mesh);
+  if (F.rows() == 0) return;
+  Far::TopologyDescriptor desc;
+  const std::vector<int> valences(std::size_t(F.rows()), 3);
+  desc.numVertices = int(V.rows());
+  desc.numFaces = int(F.rows());
+  desc.numVertsPerFace = valences.data();
+  desc.vertIndicesPerFace = impl_->mesh.F().data();
+  Sdc::Options sdc;
+  sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, sdc)));
+  PM_REQUIRE(impl_->refiner, NonManifoldError, "OpenSubdiv could not build the mesh's topology");
+}
+
+RegionRefiner::~RegionRefiner() = default;
+RegionRefiner::RegionRefiner(RegionRefiner&&) noexcept = default;
+RegionRefiner& RegionRefiner::operator=(RegionRefiner&&) noexcept = default;
+
+const TriMesh& RegionRefiner::mesh() const { return impl_->mesh; }
+
+MatrixX3d RegionRefiner::limit(const VectorXi& faces, const MatrixX3d& bary, MatrixX3d* normals) const {
+  const MatrixX3d& V = impl_->mesh.V();
+  const MatrixX3i& F = impl_->mesh.F();
+  PM_REQUIRE(bary.rows() == faces.size(), InvalidInputError, "faces and bary differ in length");
+  for (Index q = 0; q < Index(faces.size()); ++q)
+    PM_REQUIRE(faces(q) >= 0 && faces(q) < Index(F.rows()), InvalidInputError, "face ", faces(q),
+               " is out of range [0, ", F.rows(), ")");
+  MatrixX3d P(faces.size(), 3);
+  if (normals) normals->setZero(faces.size(), 3);
+  std::vector<Index> all(std::size_t(faces.size()));
+  for (Index q = 0; q < Index(all.size()); ++q) all[std::size_t(q)] = q;
+  evaluate_limit(*impl_->refiner, V, F, faces, bary, all, P, normals);
+  return P;
+}
+
+RefinedRegion RegionRefiner::refine(const std::vector<Index>& region_faces, int level, LimitAt limit_at,
+                                    Progress* progress) const {
+  const TriMesh& mesh = impl_->mesh;
+  const MatrixX3d& V = mesh.V();
+  const MatrixX3i& F = mesh.F();
   PM_REQUIRE(level >= 0 && level <= 8, InvalidInputError, "level must be in 0..8, got ", level);
   const Index nv = Index(V.rows()), nf = Index(F.rows());
   std::vector<char> in_region(std::size_t(nf), 0);
+  std::vector<Index> region;  // ascending, no duplicates
+  region.reserve(region_faces.size());
   for (const Index f : region_faces) {
     PM_REQUIRE(f >= 0 && f < nf, InvalidInputError, "region face ", f, " is out of range [0, ", nf,
                ")");
+    if (!in_region[f]) region.push_back(f);
     in_region[f] = 1;
   }
+  std::sort(region.begin(), region.end());
   if (progress) progress->report(0.0, "refine region");
-  const TriMesh mesh(V, F);
-  require_manifold(mesh);
   const MatrixX2i& E = mesh.edges();
   const MatrixX3i& FE = mesh.face_edges();
   const Csr& EF = mesh.edge_faces();
-  const Index ne = Index(E.rows());
 
   RefinedRegion out;
   const int rate = 1 << level;
-  const bool refine = level > 0 && !region_faces.empty();
+  const bool refine = level > 0 && !region.empty();
+  if (!refine) {  // nothing is refined: every face stays
+    region.clear();
+    std::fill(in_region.begin(), in_region.end(), 0);
+  }
 
   // Edges of region faces get rate - 1 points each, ordered from E(e, 0) to
   // E(e, 1); both faces of the edge use these (no cracks, no T-junctions).
-  std::vector<Index> edge_first(std::size_t(ne), -1);
-  std::vector<Index> edge_owner(std::size_t(ne), -1);  // a region face holding the edge
-  std::vector<char> rim_edge(std::size_t(ne), 0);
+  // Only the region's edges are visited: the cost follows the region.
+  std::vector<Index> split_edges;
+  for (const Index f : region)
+    for (int k = 0; k < 3; ++k) split_edges.push_back(FE(f, k));
+  std::sort(split_edges.begin(), split_edges.end());
+  split_edges.erase(std::unique(split_edges.begin(), split_edges.end()), split_edges.end());
+  std::unordered_map<Index, Index> edge_first;  // split edge -> its first new vertex
+  edge_first.reserve(split_edges.size() * 2);
+  std::vector<Index> edge_owner(split_edges.size(), -1);  // a region face holding the edge
+  std::vector<char> rim_edge(split_edges.size(), 0);
   Index next = nv;
-  if (refine) {
-    for (Index e = 0; e < ne; ++e) {
-      Index region_count = 0;
-      for (Index k = EF.begin(e); k < EF.end(e); ++k)
-        if (in_region[EF.items[k]]) {
-          if (edge_owner[e] < 0) edge_owner[e] = EF.items[k];
-          ++region_count;
-        }
-      if (edge_owner[e] < 0) continue;
-      edge_first[e] = next;
-      next += rate - 1;
-      rim_edge[e] = region_count < 2;  // to a face outside, or the mesh's boundary
-    }
+  for (std::size_t s = 0; s < split_edges.size(); ++s) {
+    const Index e = split_edges[s];
+    Index region_count = 0;
+    for (Index k = EF.begin(e); k < EF.end(e); ++k)
+      if (in_region[EF.items[k]]) {
+        if (edge_owner[s] < 0) edge_owner[s] = EF.items[k];
+        ++region_count;
+      }
+    edge_first[e] = next;
+    next += rate - 1;
+    rim_edge[s] = region_count < 2;  // to a face outside, or the mesh's boundary
   }
+  const auto first_point = [&](Index e) -> Index {
+    const auto it = edge_first.find(e);
+    return it == edge_first.end() ? -1 : it->second;
+  };
 
   // Faces outside the region with a split edge are re-triangulated.
   std::vector<char> neighbour(std::size_t(nf), 0);
-  std::vector<Index> untouched;
-  Index num_neighbours = 0, num_centroids = 0;
-  for (Index f = 0; f < nf; ++f) {
-    if (in_region[f] && refine) continue;
-    int split = 0;
-    for (int k = 0; k < 3; ++k) split += edge_first[FE(f, k)] >= 0;
-    if (split == 0) {
-      untouched.push_back(f);
-    } else {
-      neighbour[f] = char(split);
-      ++num_neighbours;
-      num_centroids += split >= 2;
+  std::vector<Index> neighbours;
+  for (const Index e : split_edges)
+    for (Index k = EF.begin(e); k < EF.end(e); ++k) {
+      const Index f = EF.items[k];
+      if (in_region[f]) continue;
+      if (neighbour[f] == 0) neighbours.push_back(f);
+      ++neighbour[f];
     }
-  }
+  std::sort(neighbours.begin(), neighbours.end());
+  Index num_centroids = 0;
+  for (const Index f : neighbours) num_centroids += neighbour[f] >= 2;
 
   const Pattern pattern = tessellation_pattern(rate);
   const Index per_face_interior = Index(pattern.interior.size());
-  Index num_region = 0;
-  for (Index f = 0; f < nf; ++f) num_region += refine && in_region[f];
+  const Index num_region = Index(region.size());
   const Index interior_first = next;
   next += num_region * per_face_interior;
   const Index centroid_first = next;
@@ -266,34 +300,34 @@ RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
   };
 
   // Edge points.
-  for (Index e = 0; e < ne; ++e) {
-    if (edge_first[e] < 0) continue;
-    const Index f = edge_owner[e];
+  for (std::size_t s = 0; s < split_edges.size(); ++s) {
+    const Index e = split_edges[s], f = edge_owner[s];
     const int ka = corner_of(f, E(e, 0)), kb = corner_of(f, E(e, 1));
     for (int j = 1; j < rate; ++j) {
-      const double s = double(j) / rate;
+      const double t = double(j) / rate;
       double b[3] = {0.0, 0.0, 0.0};
-      b[ka] = 1.0 - s;
-      b[kb] = s;
+      b[ka] = 1.0 - t;
+      b[kb] = t;
       const Index i = edge_first[e] + j - 1;
       place(i, f, b[0], b[1], b[2]);
-      out.V.row(i) = (1.0 - s) * V.row(E(e, 0)) + s * V.row(E(e, 1));  // exact on the edge
+      out.V.row(i) = (1.0 - t) * V.row(E(e, 0)) + t * V.row(E(e, 1));  // exact on the edge
     }
   }
   if (progress) progress->report(0.2, "refine region");
 
   // Output faces: untouched first, then region tessellations, then neighbours.
-  const Index num_faces = Index(untouched.size()) + num_region * Index(pattern.facets.size()) +
-                          [&] {
-                            Index count = 0;
-                            for (Index f = 0; f < nf; ++f)
-                              if (neighbour[f] == 1) count += rate;
-                              else if (neighbour[f] > 1) count += 3 + neighbour[f] * (rate - 1);
-                            return count;
-                          }();
+  Index neighbour_faces = 0;
+  for (const Index f : neighbours)
+    neighbour_faces += neighbour[f] == 1 ? rate : 3 + neighbour[f] * (rate - 1);
+  const Index num_untouched = nf - num_region - Index(neighbours.size());
+  const Index num_faces = num_untouched + num_region * Index(pattern.facets.size()) + neighbour_faces;
   out.F.resize(num_faces, 3);
-  Index row = 0;
-  for (const Index f : untouched) out.F.row(row++) = F.row(f);
+  out.replaced_faces.resize(num_region + Index(neighbours.size()));
+  Index row = 0, replaced = 0;
+  for (Index f = 0; f < nf; ++f) {
+    if (in_region[f] || neighbour[f]) out.replaced_faces(replaced++) = f;
+    else out.F.row(row++) = F.row(f);
+  }
   const Index first_new = row;
 
   // The global vertex of point j of the edge from corner k to corner k+1 of f.
@@ -304,8 +338,7 @@ RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
 
   std::vector<Index> boundary_map(pattern.boundary.size());
   Index region_index = 0;
-  for (Index f = 0; f < nf && refine; ++f) {
-    if (!in_region[f]) continue;
+  for (const Index f : region) {
     const Index first_interior = interior_first + region_index++ * per_face_interior;
     for (std::size_t i = 0; i < pattern.boundary.size(); ++i) {
       const BoundarySlot& s = pattern.boundary[i];
@@ -325,12 +358,11 @@ RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
 
   Index centroid = centroid_first;
   std::vector<Index> loop;
-  for (Index f = 0; f < nf; ++f) {
-    if (!neighbour[f]) continue;
+  for (const Index f : neighbours) {
     if (neighbour[f] == 1) {
       // Fan from the corner opposite the one split edge: no extra vertex.
       int k = 0;
-      while (edge_first[FE(f, (k + 2) % 3)] < 0) ++k;  // split edge from corner k to k+1
+      while (first_point(FE(f, (k + 2) % 3)) < 0) ++k;  // split edge from corner k to k+1
       const Index apex = F(f, (k + 2) % 3);
       loop.assign(1, F(f, k));
       for (int j = 1; j < rate; ++j) loop.push_back(edge_point(f, k, j));
@@ -344,7 +376,7 @@ RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
     loop.clear();
     for (int k = 0; k < 3; ++k) {
       loop.push_back(F(f, k));
-      if (edge_first[FE(f, (k + 2) % 3)] >= 0)
+      if (first_point(FE(f, (k + 2) % 3)) >= 0)
         for (int j = 1; j < rate; ++j) loop.push_back(edge_point(f, k, j));
     }
     for (std::size_t q = 0; q < loop.size(); ++q)
@@ -356,22 +388,40 @@ RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
   if (num_faces == first_new) out.new_faces.resize(0);
 
   // Region interior: vertices of refined faces off the region's rim.
-  if (refine) {
-    for (Index f = 0; f < nf; ++f)
-      if (in_region[f])
-        for (int k = 0; k < 3; ++k) out.region_interior(F(f, k)) = 1;
-    for (Index i = interior_first; i < centroid_first; ++i) out.region_interior(i) = 1;
-    for (Index e = 0; e < ne; ++e) {
-      if (edge_first[e] < 0) continue;
-      for (int j = 0; j < rate - 1; ++j) out.region_interior(edge_first[e] + j) = !rim_edge[e];
-      if (rim_edge[e]) out.region_interior(E(e, 0)) = out.region_interior(E(e, 1)) = 0;
-    }
+  for (const Index f : region)
+    for (int k = 0; k < 3; ++k) out.region_interior(F(f, k)) = 1;
+  for (Index i = interior_first; i < centroid_first; ++i) out.region_interior(i) = 1;
+  for (std::size_t s = 0; s < split_edges.size(); ++s) {
+    const Index e = split_edges[s];
+    for (int j = 0; j < rate - 1; ++j) out.region_interior(edge_first[e] + j) = !rim_edge[s];
+    if (rim_edge[s]) out.region_interior(E(e, 0)) = out.region_interior(E(e, 1)) = 0;
   }
   if (progress) progress->report(0.4, "limit surface");
 
-  evaluate_limit(V, F, out);
+  out.limit = out.V;
+  out.limit_normal = MatrixX3d::Zero(total, 3);
+  std::vector<Index> which;
+  if (limit_at == LimitAt::AllVertices) {
+    for (Index i = 0; i < total; ++i)
+      if (out.base_face(i) >= 0) which.push_back(i);
+  } else if (limit_at == LimitAt::RegionVertices) {
+    std::vector<char> corner(std::size_t(nv), 0);
+    for (const Index f : region)
+      for (int k = 0; k < 3; ++k) corner[std::size_t(F(f, k))] = 1;
+    for (Index v = 0; v < nv; ++v)
+      if (corner[std::size_t(v)] && out.base_face(v) >= 0) which.push_back(v);
+    for (Index i = nv; i < total; ++i) which.push_back(i);
+  }
+  if (impl_->refiner)
+    evaluate_limit(*impl_->refiner, V, F, out.base_face, out.bary, which, out.limit, &out.limit_normal);
   if (progress) progress->report(1.0, "refine region");
   return out;
+}
+
+RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
+                            const std::vector<Index>& region_faces, int level,
+                            Progress* progress) {
+  return RegionRefiner(V, F).refine(region_faces, level, LimitAt::AllVertices, progress);
 }
 
 }  // namespace paramorph::paste

@@ -14,9 +14,11 @@
 // towards the rim of its region).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "common/progress.h"
+#include "mesh/tri_mesh.h"
 #include "mesh/types.h"
 
 namespace paramorph::paste {
@@ -49,18 +51,57 @@ struct RefinedRegion {
   /// boundary edge of the mesh); 0 otherwise (all 0 when nothing is refined:
   /// level 0 or an empty region).
   VectorXi region_interior;
+  /// Indices into the input F of the faces that are not kept as they were
+  /// (the region and its re-triangulated neighbours), ascending: the output's
+  /// first rows are exactly the input's other rows, in order.
+  VectorXi replaced_faces;
 };
 
-/// V: #V by 3 positions; F: #F by 3 faces (0-based, counter-clockwise), a
-/// manifold, consistently oriented triangle mesh, open or closed;
-/// region_faces: face indices to refine (duplicates ignored; empty: nothing
-/// refined); level: 0..8 (level 0 returns the input V and F unchanged, with
-/// limit positions and normals of the original vertices).
-///
-/// Throws InvalidInputError (malformed arrays, a region index out of range,
-/// a level outside 0..8), NonManifoldError (edges with more than two faces,
-/// vertices whose faces form several fans, inconsistent orientation),
-/// DegenerateFaceError (repeated indices or zero-area faces), Cancelled.
+/// Which vertices get Loop limit positions and normals (the others keep
+/// limit = V and a zero normal): evaluating only where the caller needs them
+/// keeps repeated refinements of a small region cheap on a large mesh.
+enum class LimitAt {
+  AllVertices,     ///< every vertex of the output
+  RegionVertices,  ///< corners of region faces and every new vertex
+  Nowhere,         ///< none
+};
+
+/// Solver object for repeated refinements of one mesh (DESIGN.md §6): the
+/// mesh's topology, its validation and OpenSubdiv's topology refiner are built
+/// once; each refine() then costs in proportion to the region (plus copying
+/// the untouched arrays), which is what an interactive paste needs.
+class RegionRefiner {
+ public:
+  /// V: #V by 3 positions; F: #F by 3 faces (0-based, counter-clockwise), a
+  /// manifold, consistently oriented triangle mesh, open or closed.
+  /// Throws InvalidInputError (malformed arrays), NonManifoldError (edges with
+  /// more than two faces, vertices whose faces form several fans, inconsistent
+  /// orientation), DegenerateFaceError (repeated indices or zero-area faces).
+  RegionRefiner(const MatrixX3d& V, const MatrixX3i& F);
+  ~RegionRefiner();
+  RegionRefiner(RegionRefiner&&) noexcept;
+  RegionRefiner& operator=(RegionRefiner&&) noexcept;
+
+  /// region_faces: face indices to refine (duplicates ignored; empty: nothing
+  /// refined); level: 0..8 (level 0 returns V and F unchanged). Throws
+  /// InvalidInputError (an index out of range, a level outside 0..8), Cancelled.
+  RefinedRegion refine(const std::vector<Index>& region_faces, int level,
+                       LimitAt limit_at = LimitAt::AllVertices, Progress* progress = nullptr) const;
+
+  /// Loop limit positions (#Q by 3) at points given as faces (#Q) and
+  /// barycentric coordinates (#Q by 3, corner order of each face); normals
+  /// (unit, oriented like the faces) into *normals when it is not null.
+  MatrixX3d limit(const VectorXi& faces, const MatrixX3d& bary, MatrixX3d* normals = nullptr) const;
+
+  const TriMesh& mesh() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One-shot form: RegionRefiner(V, F).refine(region_faces, level,
+/// LimitAt::AllVertices). Same arguments and errors.
 RefinedRegion refine_region(const MatrixX3d& V, const MatrixX3i& F,
                             const std::vector<Index>& region_faces, int level,
                             Progress* progress = nullptr);

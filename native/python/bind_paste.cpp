@@ -2,7 +2,8 @@
 // (paste/extract_feature.h), Feature (paste/feature.h) with to_arrays() /
 // from_arrays() for storing it, sample_feature (paste/sample_feature.h), and
 // the paste building blocks RbfInterpolator (paste/rbf_interpolator.h) and
-// refine_region (paste/refine_region.h), each in its own block below.
+// refine_region (paste/refine_region.h), and PasteSession
+// (paste/paste_session.h), each in its own block below.
 #include <pybind11/stl.h>
 
 #include <Eigen/Dense>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "paste/extract_feature.h"
+#include "paste/paste_session.h"
 #include "paste/rbf_interpolator.h"
 #include "paste/refine_region.h"
 #include "paste/sample_feature.h"
@@ -344,11 +346,124 @@ Loop limit surface of the whole mesh there (OpenSubdiv Bfr). Raises InvalidInput
 (bad arrays, indices, level), NonManifoldError, DegenerateFaceError.)doc");
 }
 
+
+// PasteSession (paste/paste_session.h)
+
+Eigen::Vector3d to_point(const py::object& obj, const char* what) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  PM_REQUIRE(a && a.size() == 3, InvalidInputError, what, " must be 3 numbers (x, y, z)");
+  return Eigen::Vector3d(a.data()[0], a.data()[1], a.data()[2]);
+}
+
+py::dict stats_dict(const paste::PasteStats& s) {
+  py::dict d;
+  d["level"] = s.level;
+  d["anchor_face"] = s.anchor_face;
+  d["refined_faces"] = s.refined_faces;
+  d["replaced_faces"] = s.replaced_faces;
+  d["moved_vertices"] = s.moved_vertices;
+  d["feature_vertices"] = s.feature_vertices;
+  d["control_points"] = s.control_points;
+  d["lift"] = s.lift;
+  d["feature_radius"] = s.feature_radius;
+  d["influence_radius"] = s.influence_radius;
+  d["setup_seconds"] = s.setup_seconds;
+  d["update_seconds"] = s.update_seconds;
+  return d;
+}
+
+void def_paste_session(py::module_& m) {
+  using paste::PasteSession;
+  py::class_<PasteSession>(m, "PasteSession", R"doc(A feature pasted onto a target, movable (thesis 5.2).
+
+PasteSession(V, F, feature, *, anchor, rotation=0.0, scale=1.0, blend_radius=2.0,
+             subdivision_level=-1, basis="polyharmonic", fit="keep_form", progress=None)
+
+V (n, 3), F (m, 3): the target, a manifold triangle mesh. feature: from extract_feature.
+anchor (3,): snapped to the closest point of the target; the feature's frame sits there
+with its normal along the surface's and its u axis along the target's X projected onto
+the tangent plane (Y when X is within 25 degrees of the normal), turned by rotation
+(radians). scale: uniform factor on the feature. blend_radius (> 1.1): the influence rim
+in feature radii; target vertices beyond it are untouched. subdivision_level: -1 matches
+the refined edges to the feature's, else 0..6. basis: RBF of the base deformation.
+fit="keep_form": the feature keeps its form; an RBF over the feature's plane (factored
+once) bends the target to meet its boundary. fit="follow_surface": the feature's
+displacement map is laid over the target's Loop limit surface in its frame (no blend).
+The faces under it are Loop-refined (OpenSubdiv) and stitched without cracks; the
+target's coordinates are its discrete exponential map around the anchor.
+update() moves it (same result as a new session).
+Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallError.)doc")
+      .def(py::init([](const py::object& V, const py::object& F, const Feature& feature, const py::object& anchor,
+                       double rotation, double scale, double blend_radius, int subdivision_level,
+                       const std::string& basis, const std::string& fit, py::object progress) {
+             const MatrixX3d v = to_vertices(V);
+             const MatrixX3i f = to_faces(F);
+             paste::PasteOptions o;
+             o.anchor = to_point(anchor, "anchor");
+             o.rotation = rotation;
+             o.scale = scale;
+             o.blend_radius = blend_radius;
+             o.subdivision_level = subdivision_level;
+             o.basis = paste::parse_rbf_basis(basis);
+             o.fit = paste::parse_paste_fit(fit);
+             PythonProgress bridge(std::move(progress));
+             return run_without_gil(bridge, [&] { return std::make_unique<PasteSession>(v, f, feature, o, bridge.get()); });
+           }),
+           py::arg("V"), py::arg("F"), py::arg("feature"), py::kw_only(), py::arg("anchor"),
+           py::arg("rotation") = 0.0, py::arg("scale") = 1.0, py::arg("blend_radius") = 2.0,
+           py::arg("subdivision_level") = -1, py::arg("basis") = "polyharmonic", py::arg("fit") = "keep_form",
+           py::arg("progress") = py::none())
+      .def(
+          "update",
+          [](PasteSession& s, const py::object& anchor, const py::object& rotation, const py::object& scale) {
+            const Eigen::Vector3d a = anchor.is_none() ? s.options().anchor : to_point(anchor, "anchor");
+            const double r = rotation.is_none() ? s.options().rotation : rotation.cast<double>();
+            const double k = scale.is_none() ? s.options().scale : scale.cast<double>();
+            py::gil_scoped_release release;
+            s.update(a, r, k);
+          },
+          py::kw_only(), py::arg("anchor") = py::none(), py::arg("rotation") = py::none(),
+          py::arg("scale") = py::none(),
+          "Move, turn or scale the feature (None keeps a value); back-substitutes the factored RBF. "
+          "On TargetTooSmallError the previous placement and result are kept.")
+      .def(
+          "result",
+          [](const PasteSession& s) {
+            return py::make_tuple(to_numpy(s.V()), to_numpy(s.F()), to_numpy(s.new_faces()));
+          },
+          "(V, F, new_faces): the target's vertices first (those within the rim moved), then new "
+          "ones; the untouched faces first in their order, then the new faces (indices new_faces)")
+      .def_property_readonly("replaced_faces", [](const PasteSession& s) { return to_numpy(s.replaced_faces()); },
+                             "indices into the input F of the faces not kept (ascending)")
+      .def_property_readonly("anchor_point", [](const PasteSession& s) { return to_numpy(Eigen::VectorXd(s.anchor_point())); },
+                             "(3,) the snapped anchor")
+      .def_property_readonly("normal", [](const PasteSession& s) { return to_numpy(Eigen::VectorXd(s.normal())); },
+                             "(3,) unit surface normal at the anchor")
+      .def_property_readonly("anchor", [](const PasteSession& s) { return to_numpy(Eigen::VectorXd(s.options().anchor)); },
+                             "(3,) the anchor as given")
+      .def_property_readonly("rotation", [](const PasteSession& s) { return s.options().rotation; })
+      .def_property_readonly("scale", [](const PasteSession& s) { return s.options().scale; })
+      .def_property_readonly("blend_radius", [](const PasteSession& s) { return s.options().blend_radius; })
+      .def_property_readonly("subdivision_level", [](const PasteSession& s) { return s.options().subdivision_level; })
+      .def_property_readonly("basis", [](const PasteSession& s) {
+        return s.options().basis == paste::RbfBasis::Wendland ? "wendland" : "polyharmonic";
+      })
+      .def_property_readonly("fit", [](const PasteSession& s) {
+        return s.options().fit == paste::PasteFit::FollowSurface ? "follow_surface" : "keep_form";
+      })
+      .def_property_readonly("stats", [](const PasteSession& s) { return stats_dict(s.stats()); })
+      .def("__repr__", [](const PasteSession& s) {
+        return "<PasteSession vertices=" + std::to_string(s.V().rows()) + " faces=" + std::to_string(s.F().rows()) +
+               " new_faces=" + std::to_string(s.new_faces().size()) + ">";
+      });
+}
+
 }  // namespace
 
 void bind_paste(py::module_& m) {
   def_rbf_interpolator(m);
   def_refine_region(m);
+  def_paste_session(m);
   py::class_<Feature>(m, "Feature",
                       "A feature cut from a surface (extract_feature): positions in the feature frame "
                       "(origin + axes, source coordinates), its fold-free map, the base surface and its "

@@ -217,3 +217,60 @@ TEST(RefineRegion, TypedErrors) {
   V4(3, 0) = NAN;
   EXPECT_THROW(refine_region(V4, F, {0}, 1), InvalidInputError);
 }
+
+// The solver object: one refiner, many regions; each refine() equals the
+// one-shot function, replaced_faces lists exactly the rows that left, and
+// LimitAt restricts Bfr's work to where the caller needs it.
+TEST(RegionRefiner, RepeatedRefinementsMatchTheOneShotFunction) {
+  const auto [V, F] = test_meshes::icosphere(3);
+  const RegionRefiner refiner(V, F);
+  for (const double height : {0.6, 0.2, -0.5}) {
+    const std::vector<Index> region = cap(V, F, height);
+    const RefinedRegion once = refine_region(V, F, region, 2);
+    const RefinedRegion again = refiner.refine(region, 2);
+    EXPECT_EQ(again.V, once.V);
+    EXPECT_EQ(again.F, once.F);
+    EXPECT_EQ(again.limit, once.limit);
+    EXPECT_EQ(again.region_interior, once.region_interior);
+    // replaced_faces + the untouched rows make up F exactly.
+    std::vector<char> replaced(F.rows(), 0);
+    for (Index k = 0; k < again.replaced_faces.size(); ++k) replaced[again.replaced_faces(k)] = 1;
+    Index row = 0;
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      if (!replaced[f]) {
+        EXPECT_EQ(again.F.row(row++), F.row(f));
+      }
+    EXPECT_EQ(row, Index(F.rows()) - again.replaced_faces.size());
+    EXPECT_EQ(again.new_faces.size(), again.F.rows() - row);
+
+    const RefinedRegion nowhere = refiner.refine(region, 2, LimitAt::Nowhere);
+    EXPECT_EQ(nowhere.V, once.V);
+    EXPECT_EQ(nowhere.limit, nowhere.V);
+    EXPECT_EQ(nowhere.limit_normal.norm(), 0.0);
+    const RefinedRegion local = refiner.refine(region, 2, LimitAt::RegionVertices);
+    std::vector<char> corner(V.rows(), 0);
+    for (const Index f : region)
+      for (int k = 0; k < 3; ++k) corner[F(f, k)] = 1;
+    for (Index i = 0; i < local.V.rows(); ++i) {
+      const bool wanted = i >= V.rows() || corner[i];
+      if (wanted) {
+        EXPECT_EQ(local.limit.row(i), once.limit.row(i)) << "vertex " << i;
+      } else {
+        EXPECT_EQ(local.limit.row(i), local.V.row(i)) << "vertex " << i;
+      }
+    }
+  }
+}
+
+TEST(RegionRefiner, LimitAtPointsMatchesTheRefinedVertices) {
+  const auto [V, F] = test_meshes::icosphere(2);
+  const RegionRefiner refiner(V, F);
+  const RefinedRegion r = refiner.refine(cap(V, F, 0.3), 3);
+  MatrixX3d normals;
+  const MatrixX3d P = refiner.limit(r.base_face, r.bary, &normals);
+  EXPECT_LE((P - r.limit).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LE((normals - r.limit_normal).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_THROW(refiner.limit(VectorXi::Constant(1, Index(F.rows())), MatrixX3d::Constant(1, 3, 1.0 / 3)),
+               InvalidInputError);
+  EXPECT_THROW(refiner.refine({0}, 9), InvalidInputError);
+}

@@ -338,3 +338,15 @@ def test_error_classes_form_one_family():
                   pm.NonManifoldError, pm.DegenerateFaceError, pm.InvalidInputError]:
         assert issubclass(error, pm.MeshError) and issubclass(error, ValueError), error
     assert issubclass(pm.MeshError, ValueError)
+
+
+def test_open_entry_points_report_orientation_not_closedness():
+    """An open mesh with a flipped face: the planar map, the feature cut and the region refiner
+    all say it is not consistently oriented (naming the edges), not that it has holes."""
+    V, F = meshes.plane_grid(6)
+    F = F.copy()
+    F[10] = F[10][::-1]
+    for call in (lambda: pm.isometric_map(V, F), lambda: pm.refine_region(V, F, [1, 2]),
+                 lambda: pm.extract_feature(V, F, np.arange(len(F) // 2))):
+        with pytest.raises(pm.NonManifoldError, match="consistently oriented.*Recalculate"):
+            call()

@@ -30,9 +30,7 @@ PlanarInit parse_planar_init(const std::string& name) {
 namespace {
 
 void require_open_genus0(const MeshReport& r) {
-  if (!r.non_manifold_edges.empty() || !r.non_manifold_vertices.empty() ||
-      !r.inconsistent_orientation_edges.empty())
-    require_closed_genus0(r);  // its messages name the non-manifold/orientation elements
+  require_manifold(r);
   PM_REQUIRE(r.degenerate_faces.empty(), DegenerateFaceError, "mesh has ",
              r.degenerate_faces.size(), " degenerate (zero-area) faces: ",
              format_indices(r.degenerate_faces));
