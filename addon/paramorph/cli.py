@@ -147,7 +147,7 @@ def build_parser():
     paste.add_argument("--target-object", metavar="NAME", help="mesh object of TARGET (when it has several)")
     paste.add_argument("--rotation", type=float, metavar="DEG", help="turn about the surface normal (degrees)")
     paste.add_argument("--scale", type=float, metavar="S", help="size relative to the copied feature")
-    paste.add_argument("--blend-radius", type=float, metavar="B", help="blend radius in feature radii (> 1)")
+    paste.add_argument("--blend-radius", type=float, metavar="B", help="blend radius in feature radii (above 1.1)")
     paste.add_argument("--subdivision-level", type=int, metavar="L", help="-1 (auto) or 0..6")
     paste.add_argument("--basis", choices=("polyharmonic", "wendland"))
     paste.add_argument("--fit", choices=("keep_form", "follow_surface"))

@@ -173,7 +173,7 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         name="Scale", default=1.0, min=1e-3, soft_min=0.1, soft_max=10.0,
         description="Size of the feature relative to the copied one")
     blend_radius: bpy.props.FloatProperty(
-        name="Blend Radius", default=2.0, min=1.01, soft_max=6.0,
+        name="Blend Radius", default=2.0, min=1.11, soft_max=6.0,
         description="Radius of the surface around the feature that bends to meet it, in feature radii")
     subdivision_level: bpy.props.IntProperty(
         name="Subdivision Level", default=-1, min=-1, max=6,
