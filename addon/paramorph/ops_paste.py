@@ -224,6 +224,8 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
             summary = paste_mesh.write(obj.data, V, F, tri_poly, V2, F2, new_faces, session.replaced_faces)
             mask = np.zeros(len(obj.data.polygons), dtype=bool)
             mask[summary["new_polygons"]] = True
+            if "moved_vertices" in summary:  # no new faces: the faces the feature moved
+                mask = _polygons_of_vertices(obj.data, summary["moved_vertices"])
             regions.select_polygons(obj.data, mask)  # the pasted faces selected
         self.location = tuple(float(x) for x in np.asarray(session.anchor_point))
         stats = dict(session.stats) if hasattr(session, "stats") else {}
@@ -366,6 +368,20 @@ def _set_phase(value):
 _NAVIGATION = {"MIDDLEMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "NDOF_MOTION", "NUMPAD_1", "NUMPAD_2",
                "NUMPAD_3", "NUMPAD_4", "NUMPAD_5", "NUMPAD_6", "NUMPAD_7", "NUMPAD_8", "NUMPAD_9",
                "NUMPAD_PERIOD", "NUMPAD_PLUS", "NUMPAD_MINUS", "TIMER", "TIMER_REPORT", "WINDOW_DEACTIVATE"}
+
+
+def _polygons_of_vertices(mesh, vertices):
+    """Polygons with a corner among `vertices`."""
+    chosen = np.zeros(len(mesh.vertices), dtype=bool)
+    chosen[vertices] = True
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", loop_total)
+    poly_of_loop = np.repeat(np.arange(len(loop_total)), loop_total)
+    mask = np.zeros(len(loop_total), dtype=bool)
+    mask[poly_of_loop[chosen[loop_vertex]]] = True
+    return mask
 
 
 def _surface_under_mouse(context, obj, bvh, event):

@@ -197,6 +197,12 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
     V2 = np.asarray(V2, dtype=np.float64)
     F2 = np.asarray(F2, dtype=np.int64)
     cut, patch_faces, patch_tri = plan(tri_poly, P, n, F, V2, F2, new_faces, replaced)
+    if len(patch_faces) == 0 and len(V2) == n:  # the detail fits the mesh: vertices moved only
+        mesh.vertices.foreach_set("co", V2.astype(np.float32).ravel())
+        mesh.update()
+        return {"kept": P, "removed": 0, "added": 0, "triangulated": 0, "new_vertices": 0,
+                "new_polygons": np.empty(0, dtype=np.int64),
+                "moved_vertices": np.flatnonzero(np.any(V2 != V, axis=1))}
     is_new = patch_tri < 0
     patch_tri[is_new] = nearest_triangle(V, F, replaced, V2, patch_faces[is_new])
     patch_source = tri_poly[patch_tri]
@@ -280,7 +286,8 @@ def _rebuild(mesh, n, P, V, F, V2, cut, patch_faces, patch_tri, patch_source,
     face_ids = _get_ids(mesh, FACE_ID) - 1
     new_polygons = np.flatnonzero(face_ids < 0)
     face_ids[new_polygons] = P + _match_triangles(mesh, new_polygons, vertex_ids, patch_faces, len(V2))
-    source = np.where(face_ids < P, face_ids, patch_source[np.clip(face_ids - P, 0, None)])
+    source = face_ids.copy()
+    source[new_polygons] = patch_source[face_ids[new_polygons] - P]
     for layer, values in zip(face_layers, old_face_data):
         _write(mesh, layer, values[source])
     # Corners of the new faces (UVs, colours): interpolated in the triangle they
