@@ -5,7 +5,6 @@ quads, materials and attributes kept), gives new faces the material of the
 faces they replaced, and undoes in one step; the modal tool's event handling
 (driven with synthetic events); bad selections and missing features report
 in plain words and change nothing."""
-import math
 import types
 
 import bpy
