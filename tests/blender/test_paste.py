@@ -140,9 +140,6 @@ def test_copy_feature_stores_a_feature_that_survives_save_and_reload(tmp_path):
     # A second copy is kept beside the first and becomes the one pasted; a
     # redo of the same copy overwrites instead of adding.
     plate = bpy.data.objects["BossPlate"]
-    select_in_edit_mode(plate, np.ones(len(plate.data.polygons), dtype=bool))
-    bpy.ops.mesh.select_all(action="DESELECT")
-    bpy.ops.object.mode_set(mode="OBJECT")
     _, centres, _, _ = polygon_arrays(plate.data)
     smaller = np.linalg.norm(centres - np.array(make_samples.BOSS_BALL[:3]), axis=1) <= 0.62
     select_in_edit_mode(plate, smaller)
