@@ -10,6 +10,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <utility>
 
 #include "common/errors.h"
 
@@ -65,5 +66,21 @@ class ProgressWindow {
   double lo_, hi_;
   double last_ = 0.0;
 };
+
+/// Runs work(Progress*) as one stage of a longer call: the work reports its
+/// own 0..1, which the parent sees inside [lo, hi] under `name`; a cancel
+/// from the parent's callback unwinds through it (Cancelled). Without a
+/// parent, work gets nullptr (and skips its reports).
+template <typename Work>
+auto run_stage(const std::string& name, double lo, double hi, Progress* parent, Work&& work) {
+  ProgressWindow window(parent, lo, hi);
+  Progress inner(
+      [&window, &name](double fraction, const std::string&) {
+        window.report(fraction, name);
+        return true;
+      },
+      0.0);
+  return work(parent ? &inner : nullptr);
+}
 
 }  // namespace paramorph

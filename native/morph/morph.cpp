@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -22,13 +23,8 @@ namespace {
 template <typename Work>
 auto stage(const std::string& name, double lo, double hi, Progress* parent,
            std::vector<std::pair<std::string, double>>& timings, Work&& work) {
-  ProgressWindow window(parent, lo, hi);
-  Progress inner([&window, &name](double fraction, const std::string&) {
-    window.report(fraction, name);  // throws Cancelled through the solver
-    return true;
-  }, 0.0);
   const auto started = std::chrono::steady_clock::now();
-  auto result = work(parent ? &inner : nullptr);
+  auto result = run_stage(name, lo, hi, parent, std::forward<Work>(work));
   timings.emplace_back(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   return result;
 }

@@ -20,18 +20,6 @@ namespace paramorph::paste {
 
 namespace {
 
-/// A sub-stage's own 0..1 reported inside [lo, hi] of the caller's (cancel
-/// passes through: the window's report throws Cancelled).
-template <typename Work>
-auto stage(const char* name, double lo, double hi, Progress* parent, Work&& work) {
-  ProgressWindow window(parent, lo, hi);
-  Progress inner([&window, name](double fraction, const std::string&) {
-    window.report(fraction, name);
-    return true;
-  }, 0.0);
-  return work(parent ? &inner : nullptr);
-}
-
 /// Degenerate faces matter only inside the selection (the rest is not touched).
 void require_sound_selection(const MeshReport& r, const SelectionPatch& patch) {
   std::vector<Index> bad;
@@ -140,7 +128,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
     place_canonically(base, patch.F, start);
     mo.initial_uv = start;
   }
-  planar::PlanarMapResult base_map = stage("base map", 0.05, 0.4, progress, [&](Progress* p) {
+  planar::PlanarMapResult base_map = run_stage("base map", 0.05, 0.4, progress, [&](Progress* p) {
     return fold_free_map(base, patch.F, mo, "base", p);
   });
   const MapLocation at0 = place_canonically(base, patch.F, base_map.uv);
@@ -152,7 +140,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
     mo.pinned.insert(mo.pinned.end(), loop.begin(), loop.end());
   mo.pinned_uv.resize(Index(mo.pinned.size()), 2);
   for (std::size_t k = 0; k < mo.pinned.size(); ++k) mo.pinned_uv.row(k) = base_map.uv.row(mo.pinned[k]);
-  const planar::PlanarMapResult feature_map = stage("feature map", 0.4, 0.85, progress, [&](Progress* p) {
+  const planar::PlanarMapResult feature_map = run_stage("feature map", 0.4, 0.85, progress, [&](Progress* p) {
     return fold_free_map(feature, patch.F, mo, "feature", p);
   });
   if (progress) progress->report(0.85, "frame");

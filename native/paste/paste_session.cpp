@@ -74,7 +74,24 @@ struct FeaturePlane {
   std::vector<Eigen::Vector2d> q;  ///< per feature vertex
   MatrixX2d q_matrix;              ///< the same, as a matrix (the locator's input)
   double radius = 0;               ///< max |q| over the boundary
+  /// The feature's detail length: the 10th percentile of its edge lengths in
+  /// the plane. Steep walls are squeezed there (a boss's sides), so this,
+  /// not the 3D mean, says how finely the plane must be sampled.
+  double detail = 0;
 };
+
+/// plane.radius and plane.detail from its coordinates.
+void measure(FeaturePlane& plane, const Feature& f) {
+  for (const auto& loop : f.boundary_loops)
+    for (const Index v : loop) plane.radius = std::max(plane.radius, plane.q[v].norm());
+  std::vector<double> lengths;
+  lengths.reserve(3 * std::size_t(f.F.rows()));
+  for (Index k = 0; k < Index(f.F.rows()); ++k)
+    for (int j = 0; j < 3; ++j) lengths.push_back((plane.q[f.F(k, j)] - plane.q[f.F(k, (j + 1) % 3)]).norm());
+  const auto tenth = lengths.begin() + std::ptrdiff_t(lengths.size() / 10);
+  std::nth_element(lengths.begin(), tenth, lengths.end());
+  plane.detail = *tenth > 0 ? *tenth : f.mean_edge_length;
+}
 
 FeaturePlane feature_plane(const Feature& f) {
   FeaturePlane plane;
@@ -87,8 +104,7 @@ FeaturePlane feature_plane(const Feature& f) {
     plane.q_matrix = f.base_uv;
     plane.q.resize(std::size_t(f.base_uv.rows()));
     for (Index v = 0; v < Index(plane.q.size()); ++v) plane.q[v] = f.base_uv.row(v).transpose();
-    for (const auto& loop : f.boundary_loops)
-      for (const Index v : loop) plane.radius = std::max(plane.radius, plane.q[v].norm());
+    measure(plane, f);
     return plane;
   };
   if (at.distance(0) > 1e-9 * f.radius) return use_base_map();
@@ -108,8 +124,7 @@ FeaturePlane feature_plane(const Feature& f) {
   }
   // A base curved past the map's reach (it folds): the base map, which never does.
   if (folds) return use_base_map();
-  for (const auto& loop : f.boundary_loops)
-    for (const Index v : loop) plane.radius = std::max(plane.radius, plane.q[v].norm());
+  measure(plane, f);
   return plane;
 }
 
@@ -144,9 +159,9 @@ struct FeatureGrid {
 
   FeatureGrid(const Feature& feature, const FeaturePlane& plane, const FeatureLookup& lookup) {
     const double r = plane.radius * (1 + 1e-9);
-    // About two nodes per feature edge, within bounds that keep the one-off
-    // cost (one exact lookup per node) small.
-    n = int(std::clamp(std::ceil(4 * r / std::max(feature.mean_edge_length, 1e-300)) + 1, 65.0, 257.0));
+    // About two nodes per short feature edge, within bounds that keep the
+    // one-off cost (one exact lookup per node) small.
+    n = int(std::clamp(std::ceil(4 * r / plane.detail) + 1, 65.0, 257.0));
     origin = Eigen::Vector2d(-r, -r);
     spacing = 2 * r / (n - 1);
     MatrixX2d uv(Index(n) * n, 2);
@@ -377,14 +392,14 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   std::sort(region.begin(), region.end());
   std::sort(refined.begin(), refined.end());
 
-  // 3. Level: refined edges about as long as the feature's, scaled.
+  // 3. Level: refined edges about as long as the feature's short ones, scaled.
   int level = options.subdivision_level;
   if (level < 0) {
     double length = 0;
     for (const Index f : refined)
       for (int k = 0; k < 3; ++k) length += (V.row(F(f, k)) - V.row(F(f, (k + 1) % 3))).norm();
     length /= 3.0 * double(refined.size());
-    level = int(std::clamp(std::ceil(std::log2(length / (scale * feature.mean_edge_length))), 0.0, 6.0));
+    level = int(std::clamp(std::ceil(std::log2(length / (scale * plane.detail))), 0.0, 6.0));
   }
   const bool follow = options.fit == PasteFit::FollowSurface;
   RefinedRegion refined_mesh = refiner.refine(refined, level, follow ? LimitAt::RegionVertices : LimitAt::Nowhere);
