@@ -55,13 +55,15 @@ def nearest_triangle(V, F, replaced, V2, faces):
     replaced = np.asarray(replaced, dtype=np.int64)
     if len(faces) == 0:
         return np.empty(0, dtype=np.int64)
-    old = V[F[replaced]].mean(axis=1)
-    new = V2[faces].mean(axis=1)
+    centre = V[F[replaced]].mean(axis=(0, 1))
+    old = (V[F[replaced]].mean(axis=1) - centre).astype(np.float32)
+    new = (V2[faces].mean(axis=1) - centre).astype(np.float32)
+    # argmin over |new - old|^2 = |new|^2 - 2 new.old + |old|^2: |new|^2 is the same along a row.
+    half_old_sq = 0.5 * (old * old).sum(axis=1)
     out = np.empty(len(faces), dtype=np.int64)
-    chunk = max(1, 4_000_000 // max(len(old), 1))
+    chunk = max(1, 8_000_000 // max(len(old), 1))
     for start in range(0, len(new), chunk):  # chunks of faces, not a loop over elements
-        block = new[start:start + chunk]
-        d = (block * block).sum(axis=1)[:, None] - 2.0 * block @ old.T + (old * old).sum(axis=1)[None, :]
+        d = half_old_sq - new[start:start + chunk] @ old.T
         out[start:start + chunk] = replaced[d.argmin(axis=1)]
     return out
 

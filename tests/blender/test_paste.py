@@ -385,25 +385,25 @@ def test_a_write_that_fails_half_way_leaves_the_mesh_as_it_was(monkeypatch):
     assert np.all(edge_face_counts(mesh) == 2)
 
 
-def test_on_a_fine_mesh_the_feature_moves_vertices_and_keeps_every_face():
-    """Where the target is finer than the feature's detail (level 0), nothing is
-    replaced: the same polygons, their vertices moved."""
+def test_at_subdivision_level_0_the_feature_moves_vertices_and_keeps_every_face():
+    """Level 0 (no refinement, as for a target finer than the feature): nothing is
+    replaced, the same polygons stay, their vertices move."""
     pm = native()
     copy_boss()
-    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=7, radius=1.6)
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=6, radius=1.6)
     target = bpy.context.active_object
     activate(target)
     mesh = target.data
     V0, faces0 = coordinates(mesh), len(mesh.polygons)
     feature, _ = ops_paste.load_feature("")
     V, F, _ = ops_paste.target_arrays(bpy.context, target)
-    session = pm.PasteSession(V, F, feature, anchor=np.array([0.0, 0.0, 1.6]))
-    if len(session.replaced_faces):
-        pytest.skip("the session refines this mesh: the level-0 path is not taken")
-    assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6)) == {"FINISHED"}
+    session = pm.PasteSession(V, F, feature, anchor=np.array([0.0, 0.0, 1.6]), subdivision_level=0)
+    assert len(session.replaced_faces) == 0
+    assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6), subdivision_level=0) == {"FINISHED"}
     V1 = coordinates(mesh)
     assert len(mesh.polygons) == faces0 and len(V1) == len(V0)
     moved = np.linalg.norm(V1 - V0, axis=1) > 1e-6
     assert moved.any() and np.linalg.norm(V1, axis=1).max() > 1.6 + 0.15  # the boss stands out
     assert np.all(np.linalg.norm(V0[moved] - [0, 0, 1.6], axis=1) < 2.0 * feature.radius + 0.05)
+    assert np.all(edge_face_counts(mesh) == 2)
     assert regions.selected_polygons(mesh).sum() > 0
