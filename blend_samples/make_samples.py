@@ -107,6 +107,61 @@ def build_cad_part(name="CadPart"):
     return plate
 
 
+def build_boss_plate(name="BossPlate", voxel_size=0.05):
+    """The paste sample's source: a CAD-like plate (3 x 2 x 0.3) with one
+    cylindrical boss (radius 0.35, 0.3 high) on top at (-0.6, 0, 0.15),
+    welded into one closed manifold surface by a voxel remesh (even quads,
+    enough faces for the boss's detail). The boss and a ring of plate around
+    its foot are the faces within BOSS_BALL of its top's centre."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    plate = bpy.context.active_object
+    plate.name = name
+    plate.scale = (3.0, 2.0, 0.3)
+    bpy.ops.object.transform_apply(scale=True)
+    bpy.ops.mesh.primitive_cylinder_add(vertices=48, radius=0.35, depth=0.3, location=(-0.6, 0.0, 0.3))
+    boss = bpy.context.active_object
+    union = plate.modifiers.new("Union", "BOOLEAN")
+    union.operation = "UNION"
+    union.object = boss
+    if hasattr(union, "solver"):
+        union.solver = "EXACT"
+    _apply_all_modifiers(plate)
+    bpy.data.objects.remove(boss, do_unlink=True)
+    remesh = plate.modifiers.new("Remesh", "REMESH")
+    remesh.mode = "VOXEL"
+    remesh.voxel_size = voxel_size
+    _apply_all_modifiers(plate)
+    return plate
+
+
+# (centre x, y, z, radius) of the ball around the boss whose faces make the feature:
+# the boss's top, its wall and a ring of the plate around its foot.
+BOSS_BALL = (-0.6, 0.0, 0.6, 0.7)
+
+
+def build_curved_target(name="CurvedTarget", subdivisions=5, radius=1.6):
+    """The paste sample's target: a smooth closed surface curved everywhere,
+    an icosphere squashed a little (radii 1.6, 1.6, 1.3)."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=subdivisions, radius=radius)
+    obj = bpy.context.active_object
+    obj.name = name
+    mesh = obj.data
+    P = _coordinates(mesh) * [1.0, 1.0, 1.3 / radius]
+    mesh.vertices.foreach_set("co", P.astype(np.float32).ravel())
+    mesh.update()
+    bpy.ops.object.shade_smooth()
+    return obj
+
+
+def build_paste_pair():
+    """The paste sample: the boss plate (source) and the curved target side by side."""
+    source = build_boss_plate()
+    target = build_curved_target()
+    source.location = (-2.6, 0.0, 0.0)
+    target.location = (1.8, 0.0, 0.0)
+    return source, target
+
+
 def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     """A bumpy disc (a grid cut to a circle and lifted) with a UV layer whose
     four boundary extremes are pinned at the corners of the unit square."""
@@ -162,6 +217,7 @@ BUILDERS = {
     "cad_part": build_cad_part,
     "pinned_disc": build_pinned_disc,
     "morph_pair": build_morph_pair,
+    "paste_pair": build_paste_pair,
 }
 
 

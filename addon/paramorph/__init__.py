@@ -8,13 +8,13 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "3D View > Sidebar > Paramorph",
-    "description": "Fold-free sphere maps, parameterizations, segmentation and feature-based morphing (native core)",
+    "description": "Fold-free sphere maps, parameterizations, segmentation, feature-based morphing and feature cut-and-paste (native core)",
     "category": "Mesh",
 }
 
 
 _CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
-                  "ops_morph", "panels", "overlay")
+                  "ops_morph", "ops_paste", "panels", "overlay")
 
 
 def _modules():
@@ -30,6 +30,7 @@ def _menu_entries(self, context):
     layout.operator("paramorph.detect_feature_regions")
     layout.operator("paramorph.preview_matches")
     layout.operator("paramorph.morph_to")
+    layout.operator("paramorph.paste_feature")
 
 
 def register():

@@ -13,9 +13,22 @@ would in the UI, and writes the result.
                    [--frames N] [--start F] [--in-betweens K] [--linear] [--no-features]
                    [--source-object NAME] [--target-object NAME] [--backend ...]
 
+    blender -b --factory-startup --python <addons>/paramorph/cli.py -- paste SOURCE TARGET OUT
+                   (--select-ball X,Y,Z,R | --select-group NAME) --at X,Y,Z
+                   [--source-object NAME] [--target-object NAME] [--rotation DEG] [--scale S]
+                   [--blend-radius B] [--subdivision-level L] [--basis polyharmonic|wendland]
+                   [--fit keep_form|follow_surface] [--resolution N] [--backend ...]
+
 morph builds the object "<source> to <target>" on the merged topology of A's
 and B's meshes with shape keys from A's shape to B's, keyframed over N frames
 from frame F (the scene's frame range is set to it), and saves the .blend.
+
+paste copies a feature from SOURCE's mesh (Copy Feature on the faces whose
+centre lies in the ball X,Y,Z,R, or the faces of vertex group NAME; both in
+the source object's coordinates) and pastes it onto TARGET's mesh at X,Y,Z
+(the target object's coordinates, snapped to its surface) with Paste
+Feature; OUT (.blend: both objects and the stored feature; .obj/.ply: the
+target) gets the result.
 
 IN is a .blend, .obj, .ply or .stl file; OUT a .blend, .obj or .ply file
 (.obj and .ply keep the UVs; regions and shape keys only survive in .blend).
@@ -34,6 +47,7 @@ import sys
 import traceback
 
 import bpy
+import numpy as np
 
 if __package__:
     PACKAGE = __package__
@@ -117,15 +131,71 @@ def build_parser():
     morph.add_argument("--target-object", metavar="NAME", help="mesh object of B (when B has several)")
     morph.add_argument("--backend", choices=("auto", "cpu", "opencl"),
                        help="compute backend (sets the add-on preference; default: auto)")
-    return parser, {"sphere": sphere, "unwrap": unwrap, "segment": segment, "morph": morph}
+
+    paste = commands.add_parser("paste", help="copy a feature from SOURCE and paste it onto TARGET")
+    paste.add_argument("source", metavar="SOURCE", help="file with the feature: " + ", ".join(INPUTS))
+    paste.add_argument("target", metavar="TARGET", help="file with the surface to paste on: " + ", ".join(INPUTS))
+    paste.add_argument("output", metavar="OUT", help="output file: " + ", ".join(OUTPUTS))
+    select = paste.add_mutually_exclusive_group(required=True)
+    select.add_argument("--select-ball", type=_floats(4), metavar="X,Y,Z,R",
+                        help="the feature: faces of SOURCE whose centre is within R of X,Y,Z (object space)")
+    select.add_argument("--select-group", metavar="NAME",
+                        help="the feature: faces of SOURCE whose vertices are all in vertex group NAME")
+    paste.add_argument("--at", type=_floats(3), required=True, metavar="X,Y,Z",
+                       help="where to paste, in TARGET's object coordinates (snapped to its surface)")
+    paste.add_argument("--source-object", metavar="NAME", help="mesh object of SOURCE (when it has several)")
+    paste.add_argument("--target-object", metavar="NAME", help="mesh object of TARGET (when it has several)")
+    paste.add_argument("--rotation", type=float, metavar="DEG", help="turn about the surface normal (degrees)")
+    paste.add_argument("--scale", type=float, metavar="S", help="size relative to the copied feature")
+    paste.add_argument("--blend-radius", type=float, metavar="B", help="blend radius in feature radii (above 1.1)")
+    paste.add_argument("--subdivision-level", type=int, metavar="L", help="-1 (auto) or 0..6")
+    paste.add_argument("--basis", choices=("polyharmonic", "wendland"))
+    paste.add_argument("--fit", choices=("keep_form", "follow_surface"))
+    paste.add_argument("--resolution", type=int, metavar="N", help="displacement grid samples per side")
+    paste.add_argument("--backend", choices=("auto", "cpu", "opencl"),
+                       help="compute backend (sets the add-on preference; default: auto)")
+    return parser, {"sphere": sphere, "unwrap": unwrap, "segment": segment, "morph": morph, "paste": paste}
+
+
+def _floats(count):
+    """argparse type: `count` comma-separated numbers."""
+    def parse(text):
+        try:
+            values = tuple(float(x) for x in text.split(","))
+        except ValueError:
+            values = ()
+        if len(values) != count or not all(math.isfinite(v) for v in values):
+            raise argparse.ArgumentTypeError(f"expected {count} comma-separated numbers, not {text!r}")
+        return values
+    parse.__name__ = f"{count} numbers"
+    return parse
+
+
+VECTOR_FLAGS = ("--select-ball", "--at")
+
+
+def _join_vectors(argv):
+    """`--at -1,0,2` as `--at=-1,0,2`: argparse takes a value starting with '-'
+    (a negative first coordinate) for an option otherwise."""
+    out = []
+    for arg in argv:
+        if out and out[-1] in VECTOR_FLAGS and arg.startswith("-") and "," in arg:
+            out[-1] = f"{out[-1]}={arg}"
+        else:
+            out.append(arg)
+    return out
 
 
 def parse_args(argv):
     parser, subparsers = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_vectors(list(argv)))
     parser = subparsers[args.command]  # later errors show the command's usage
-    files = ((("A", args.source, INPUTS), ("B", args.target, INPUTS), ("OUT", args.output, (".blend",)))
-             if args.command == "morph" else (("IN", args.input, INPUTS), ("OUT", args.output, OUTPUTS)))
+    if args.command == "morph":
+        files = (("A", args.source, INPUTS), ("B", args.target, INPUTS), ("OUT", args.output, (".blend",)))
+    elif args.command == "paste":
+        files = (("SOURCE", args.source, INPUTS), ("TARGET", args.target, INPUTS), ("OUT", args.output, OUTPUTS))
+    else:
+        files = (("IN", args.input, INPUTS), ("OUT", args.output, OUTPUTS))
     for label, path, allowed in files:
         if os.path.splitext(path)[1].lower() not in allowed:
             parser.error(f"{label} must end in {', '.join(allowed)}, not {path!r}")
@@ -138,6 +208,8 @@ def parse_args(argv):
                     parser.error(f"--{name.replace('_', '-')} applies to --mode {mode}")
     if args.command == "morph" and (args.frames < 2 or args.in_betweens < 0):
         parser.error("--frames must be at least 2 and --in-betweens at least 0")
+    if args.command == "paste" and args.select_ball is not None and args.select_ball[3] <= 0:
+        parser.error("--select-ball needs a radius above 0")
     args.parser = parser
     return args
 
@@ -369,7 +441,7 @@ def _added_mesh_object(path, wanted, label):
             raise CliError(f"{label} has no mesh object named {wanted!r}")
         return chosen[0]
     if len(meshes) != 1:
-        flag = "--source-object" if label == "A" else "--target-object"
+        flag = "--source-object" if label in ("A", "SOURCE") else "--target-object"
         raise CliError(f"{label} has {len(meshes)} mesh objects ({', '.join(o.name for o in meshes) or 'none'}): "
                        f"name one with {flag}")
     return meshes[0]
@@ -408,11 +480,103 @@ def morph_main(args):
     return 0
 
 
+PASTE_FLAGS = {"rotation": "--rotation", "scale": "--scale", "blend_radius": "--blend-radius",
+               "subdivision_level": "--subdivision-level", "resolution": "--resolution"}
+
+
+def paste_options(args):
+    """Paste Feature's options given on the command line (the operator's defaults otherwise)."""
+    options = {"scale": args.scale, "blend_radius": args.blend_radius,
+               "subdivision_level": args.subdivision_level, "basis": args.basis, "fit": args.fit,
+               "rotation": None if args.rotation is None else math.radians(args.rotation)}
+    return {k: v for k, v in options.items() if v is not None}
+
+
+def select_feature_faces(args, source):
+    """Selects the feature's faces of `source` (Edit Mode, face select) by ball or vertex group."""
+    activate(source)
+    mesh = source.data
+    if args.select_group is not None:
+        if args.select_group not in source.vertex_groups:
+            groups = ", ".join(g.name for g in source.vertex_groups) or "none"
+            raise CliError(f"{source.name} has no vertex group {args.select_group!r} (groups: {groups})")
+        call_operator(bpy.ops.object.mode_set, mode="EDIT")
+        call_operator(bpy.ops.mesh.select_mode, type="VERT")
+        call_operator(bpy.ops.mesh.select_all, action="DESELECT")
+        source.vertex_groups.active = source.vertex_groups[args.select_group]
+        call_operator(bpy.ops.object.vertex_group_select)
+        call_operator(bpy.ops.mesh.select_mode, type="FACE")  # faces whose vertices are all in it
+        bpy.ops.object.mode_set(mode="OBJECT")
+        selected = np.empty(len(mesh.polygons), dtype=bool)
+        mesh.polygons.foreach_get("select", selected)
+    else:
+        x, y, z, r = args.select_ball
+        centres = np.empty(3 * len(mesh.polygons), dtype=np.float32)
+        mesh.polygons.foreach_get("center", centres)
+        selected = np.linalg.norm(centres.reshape(-1, 3) - (x, y, z), axis=1) <= r
+        vertices = np.zeros(len(mesh.vertices), dtype=bool)
+        loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", loop_vertex)
+        loop_total = np.empty(len(mesh.polygons), dtype=np.int32)
+        mesh.polygons.foreach_get("loop_total", loop_total)
+        vertices[loop_vertex[np.repeat(selected, loop_total)]] = True
+        mesh.vertices.foreach_set("select", vertices)
+        mesh.edges.foreach_set("select", np.zeros(len(mesh.edges), dtype=bool))
+        mesh.polygons.foreach_set("select", selected)
+        mesh.update()
+    call_operator(bpy.ops.object.mode_set, mode="EDIT")
+    bpy.context.tool_settings.mesh_select_mode = (False, False, True)
+    return int(selected.sum())
+
+
+def paste_main(args):
+    name = "paramorph paste"
+    try:
+        for label, path in (("SOURCE", args.source), ("TARGET", args.target)):
+            if not os.path.isfile(path):
+                raise CliError(f"{label}: {path}: no such file")
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        enable_addon(args.backend)
+        options = paste_options(args)
+        check_ranges(args.parser, bpy.ops.paramorph.paste_feature, options, PASTE_FLAGS)
+        copy_options = {} if args.resolution is None else {"resolution": args.resolution}
+        check_ranges(args.parser, bpy.ops.paramorph.copy_feature, copy_options, PASTE_FLAGS)
+        source = _added_mesh_object(os.path.abspath(args.source), args.source_object, "SOURCE")
+        target = _added_mesh_object(os.path.abspath(args.target), args.target_object, "TARGET")
+        if source == target:
+            raise CliError("SOURCE and TARGET name the same object")
+        selected = select_feature_faces(args, source)
+        try:
+            call_operator(bpy.ops.paramorph.copy_feature, **copy_options)
+        except CliError as error:
+            raise CliError(f"{source.name}: {error}") from None
+        finally:
+            object_mode()
+        print(f"{name}: {source.name}: copied the feature of {selected} faces", flush=True)
+        activate(target)
+        before = len(target.data.polygons)
+        try:
+            call_operator(bpy.ops.paramorph.paste_feature, location=args.at, **options)
+        except CliError as error:
+            raise CliError(f"{target.name}: {error}") from None
+        print(f"{name}: {target.name}: {before} -> {len(target.data.polygons)} faces, "
+              f"{len(target.data.vertices)} vertices", flush=True)
+        out = os.path.abspath(args.output)
+        save(out, [target], "paste")
+    except CliError as error:
+        print(f"{name}: error: {error}", file=sys.stderr, flush=True)
+        return 1
+    print(f"{name}: wrote {out}", flush=True)
+    return 0
+
+
 def main(argv):
     """Runs one command; returns the exit status (usage errors exit 2 through argparse)."""
     args = parse_args(argv)
     if args.command == "morph":
         return morph_main(args)
+    if args.command == "paste":
+        return paste_main(args)
     name = f"paramorph {args.command}"
     try:
         if not os.path.isfile(args.input):

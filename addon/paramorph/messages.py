@@ -21,6 +21,9 @@ def describe(error, V=None, F=None):
             report = None
     if isinstance(error, pm.Cancelled):
         return "cancelled: the mesh was left as it was"
+    selection = _selection_message(pm, error)
+    if selection is not None:
+        return selection
     if isinstance(error, pm.NotClosedError):
         holes = report.boundary_loops if report is not None else None
         head = f"mesh has {_count(holes, 'hole')}" if holes else "mesh is not closed"
@@ -46,3 +49,22 @@ def describe(error, V=None, F=None):
     if isinstance(error, pm.ComputeError):
         return f"the OpenCL device failed ({error}): choose the CPU backend in the add-on preferences"
     return f"{type(error).__name__}: {error}"
+
+
+def _selection_message(pm, error):
+    """Cut-and-paste errors (classes looked up by name: older builds lack some)."""
+    def kind(name):
+        cls = getattr(pm, name, None)
+        return cls is not None and isinstance(error, cls)
+    if kind("EmptySelectionError"):
+        return "no faces selected: select the feature's faces in Edit Mode (face select) first"
+    if kind("WholeMeshSelectedError"):
+        return ("the whole mesh is selected: select only the feature (e.g. a boss and a ring "
+                "of surface around it), not every face")
+    if kind("SelectionTopologyError"):
+        return (f"the selected faces must be one patch shaped like a disc or a ring, without "
+                f"handles ({error}): select one connected feature")
+    if kind("TargetTooSmallError"):
+        return (f"the feature does not fit there ({error}): paste it on a larger part of the "
+                "surface, scale it down or lower the blend radius")
+    return None

@@ -58,6 +58,7 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                 row.label(text=f"{item.distance:.3f}" if item.distance >= 0 else "n/a",
                           icon="NONE" if item.distance >= 0 else "ERROR")
         self.draw_morph(context, layout)
+        self.draw_paste(context, layout)
 
     @staticmethod
     def draw_morph(context, layout):
@@ -73,6 +74,20 @@ class PARAMORPH_PT_main(bpy.types.Panel):
             row.operator("paramorph.remove_pair", text="Remove", icon="REMOVE")
             row.operator("paramorph.clear_matches", text="", icon="X")
         col.operator("paramorph.morph_to")
+
+
+    @staticmethod
+    def draw_paste(context, layout):
+        from . import feature_store
+        col = layout.column(align=True)
+        col.label(text="Cut and paste")
+        row = col.row()
+        row.enabled = context.mode == "EDIT_MESH"
+        row.operator("paramorph.copy_feature")
+        col.operator("paramorph.paste_feature")
+        last = feature_store.latest()
+        col.label(text=f"Paste: {feature_store.describe(last)}" if last is not None else "No feature copied yet",
+                  icon="PASTEDOWN" if last is not None else "INFO")
 
 
 class PARAMORPH_UL_match_pairs(bpy.types.UIList):

@@ -14,7 +14,7 @@ import pytest
 
 import blender_subprocess
 import make_samples
-from paramorph import uv_patch
+from paramorph import bridge, uv_patch
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
@@ -300,3 +300,57 @@ def test_morph_usage_and_input_errors(cli, tmp_path):
     proc = run_cli(cli, tmp_path, "morph", blob_obj, tmp_path / "missing.obj", "-o", tmp_path / "out.blend")
     assert proc.returncode == 1 and "B: " in proc.stderr and "no such file" in proc.stderr, output(proc)
     assert not (tmp_path / "out.blend").exists()
+
+
+def paste_inputs(tmp_path):
+    """The paste sample saved as one .blend; returns its path."""
+    make_samples.build_paste_pair()
+    src = tmp_path / "pair.blend"
+    save_blend(src)
+    return src
+
+
+def test_paste_copies_the_boss_and_pastes_it_onto_the_target(cli, tmp_path):
+    if not hasattr(bridge.require_native(), "PasteSession"):
+        pytest.skip("this build has no PasteSession")
+    src = paste_inputs(tmp_path)
+    out = tmp_path / "out" / "pasted.blend"
+    x, y, z, r = make_samples.BOSS_BALL
+    proc = run_cli(cli, tmp_path, "paste", src, src, out, "--source-object", "BossPlate",
+                   "--target-object", "CurvedTarget", "--select-ball", f"{x},{y},{z},{r}",
+                   "--at", "0,0,2", "--rotation", "30", "--scale", "0.8", "--backend", "cpu")
+    assert proc.returncode == 0, output(proc)
+    assert "paramorph paste: BossPlate: copied the feature of" in proc.stdout, output(proc)
+    assert "paramorph paste: CurvedTarget: 5120 -> " in proc.stdout and f"wrote {out}" in proc.stdout
+    open_output(out)
+    mesh = bpy.data.objects["CurvedTarget"].data
+    assert len(mesh.polygons) > 5120
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    assert co.reshape(-1, 3)[:, 2].max() > 1.3 + 0.15  # the boss on the top
+    assert any(m.name == "Feature BossPlate" and m.use_fake_user for m in bpy.data.meshes)
+
+
+def test_paste_errors_exit_1_and_usage_errors_exit_2(cli, tmp_path):
+    src = paste_inputs(tmp_path)
+    out = tmp_path / "never.blend"
+    common = [src, src, out, "--source-object", "BossPlate", "--target-object", "CurvedTarget"]
+    proc = run_cli(cli, tmp_path, "paste", *common, "--select-group", "Boss", "--at", "0,0,2")
+    assert proc.returncode == 1, output(proc)
+    assert "paramorph paste: error: BossPlate has no vertex group 'Boss' (groups: none)" in proc.stderr
+    proc = run_cli(cli, tmp_path, "paste", *common, "--select-ball", "5,5,5,0.1", "--at", "0,0,2")
+    assert proc.returncode == 1, output(proc)
+    assert "paramorph paste: error: BossPlate: no faces selected" in proc.stderr, output(proc)
+    proc = run_cli(cli, tmp_path, "paste", src, src, out, "--source-object", "Nope",
+                   "--target-object", "CurvedTarget", "--select-ball", "0,0,0,1", "--at", "0,0,2")
+    assert proc.returncode == 1 and "SOURCE has no mesh object named 'Nope'" in proc.stderr, output(proc)
+    assert not out.exists()
+    for bad in (["--select-ball", "1,2", "--at", "0,0,2"],                      # not 4 numbers
+                ["--select-ball", "0,0,0,1"],                                # no --at
+                ["--select-ball", "0,0,0,1", "--select-group", "G", "--at", "0,0,2"],  # both
+                ["--select-ball", "0,0,0,1", "--at", "0,0,2", "--scale", "0"],  # out of range
+                ["--select-ball", "0,0,0,1", "--at", "0,0,2", "--subdivision-level", "9"]):
+        proc = run_cli(cli, tmp_path, "paste", *common, *bad)
+        assert proc.returncode == 2, (bad, output(proc))
+        assert "usage:" in proc.stderr, (bad, output(proc))
+    assert not out.exists()
