@@ -221,7 +221,8 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
     def _write(self, context, obj, datablock, V, F, tri_poly, session):
         V2, F2, new_faces = session.result()
         with bridge.object_mode(context, obj, face_select=True):
-            summary = paste_mesh.write(obj.data, V, F, tri_poly, V2, F2, new_faces, session.replaced_faces)
+            summary = paste_mesh.write(obj.data, V, F, tri_poly, V2, F2, new_faces, session.replaced_faces,
+                                       session.new_face_parents)
             mask = np.zeros(len(obj.data.polygons), dtype=bool)
             mask[summary["new_polygons"]] = True
             if "moved_vertices" in summary:  # no new faces: the faces the feature moved

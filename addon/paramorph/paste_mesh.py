@@ -30,7 +30,7 @@ def plan(tri_poly, num_polygons, num_vertices, F, V2, F2, new_faces, replaced):
     patch_faces (k, 3) in V2's numbering: the kept triangles of cut polygons,
     then the new faces;
     patch_tri (k,) the triangle of F each came from (new faces: -1, filled
-    later by nearest_triangle)."""
+    from the session's new_face_parents)."""
     m = len(tri_poly)
     replaced = np.asarray(replaced, dtype=np.int64)
     new_faces = np.asarray(new_faces, dtype=np.int64)
@@ -47,25 +47,6 @@ def plan(tri_poly, num_polygons, num_vertices, F, V2, F2, new_faces, replaced):
     patch_faces = np.vstack([F2[partial], F2[new_faces]]).astype(np.int64)
     patch_tri = np.concatenate([kept[partial], np.full(len(new_faces), -1)]).astype(np.int64)
     return cut, patch_faces, patch_tri
-
-
-def nearest_triangle(V, F, replaced, V2, faces):
-    """For each face of `faces` (V2 numbering), the replaced triangle (index
-    into F) whose centroid is nearest its centroid (brute force in chunks)."""
-    replaced = np.asarray(replaced, dtype=np.int64)
-    if len(faces) == 0:
-        return np.empty(0, dtype=np.int64)
-    centre = V[F[replaced]].mean(axis=(0, 1))
-    old = (V[F[replaced]].mean(axis=1) - centre).astype(np.float32)
-    new = (V2[faces].mean(axis=1) - centre).astype(np.float32)
-    # argmin over |new - old|^2 = |new|^2 - 2 new.old + |old|^2: |new|^2 is the same along a row.
-    half_old_sq = 0.5 * (old * old).sum(axis=1)
-    out = np.empty(len(faces), dtype=np.int64)
-    chunk = max(1, 8_000_000 // max(len(old), 1))
-    for start in range(0, len(new), chunk):  # chunks of faces, not a loop over elements
-        d = half_old_sq - new[start:start + chunk] @ old.T
-        out[start:start + chunk] = replaced[d.argmin(axis=1)]
-    return out
 
 
 def barycentric(points, A, B, C):
@@ -192,9 +173,10 @@ def _write(mesh, layer, values):
     data.foreach_set(field, np.ascontiguousarray(values, dtype=dtype).ravel())
 
 
-def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
-    """Writes the result into `mesh` (object-mode data). Returns a dict:
-    polygons kept, polygons removed, faces added, vertices added."""
+def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced, new_face_parents):
+    """Writes the result into `mesh` (object-mode data); new_face_parents: per
+    new face, the triangle of F it lies in (PasteSession.new_face_parents).
+    Returns a dict: polygons kept, polygons removed, faces added, vertices added."""
     n, P = len(mesh.vertices), len(mesh.polygons)
     V2 = np.asarray(V2, dtype=np.float64)
     F2 = np.asarray(F2, dtype=np.int64)
@@ -206,7 +188,10 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced):
                 "new_polygons": np.empty(0, dtype=np.int64),
                 "moved_vertices": np.flatnonzero(np.any(V2 != V, axis=1))}
     is_new = patch_tri < 0
-    patch_tri[is_new] = nearest_triangle(V, F, replaced, V2, patch_faces[is_new])
+    parents = np.asarray(new_face_parents, dtype=np.int64)
+    if len(parents) != is_new.sum():
+        raise PasteWriteError("the paste result names a parent for each new face: lengths differ")
+    patch_tri[is_new] = parents
     patch_source = tri_poly[patch_tri]
 
     face_layers = _face_layers(mesh)
