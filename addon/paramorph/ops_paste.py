@@ -12,10 +12,9 @@ import math
 
 import bpy
 import numpy as np
-from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from . import bridge, feature_store, messages, paste_mesh, paste_preview, regions
+from . import bridge, feature_store, messages, paste_mesh, paste_preview, regions, view_ray
 from .jobs import NativeJob
 from .native import load_error, native
 from .native_operator import NativeOperator, UserError
@@ -387,17 +386,10 @@ def _polygons_of_vertices(mesh, vertices):
 
 def _surface_under_mouse(context, obj, bvh, event):
     """The first hit of the view ray through the mouse on the mesh, object space, or None."""
-    from bpy_extras import view3d_utils
-    region, rv3d = context.region, context.region_data
-    if region is None or rv3d is None:
+    ray = view_ray.mouse_ray(context, obj, event)
+    if ray is None:
         return None
-    coord = (event.mouse_region_x, event.mouse_region_y)
-    origin = view3d_utils.region_2d_to_origin_3d(region, rv3d, coord)
-    direction = view3d_utils.region_2d_to_vector_3d(region, rv3d, coord)
-    to_local = obj.matrix_world.inverted()
-    local_origin = to_local @ origin
-    local_direction = (to_local.to_3x3() @ direction).normalized()
-    location, _, _, _ = bvh.ray_cast(Vector(local_origin), local_direction)
+    location, _, _, _ = bvh.ray_cast(*ray)
     return None if location is None else np.array(location, dtype=np.float64)
 
 

@@ -3,9 +3,8 @@ growing or shrinking the selection a region at a time. They read the
 "paramorph_region" face attribute written by the segmentation operators."""
 import bpy
 import numpy as np
-from bpy_extras import view3d_utils
 
-from . import bridge, regions
+from . import bridge, regions, view_ray
 
 
 def _labels_or_report(operator, obj):
@@ -69,14 +68,10 @@ class PARAMORPH_OT_select_region(_RegionSelection, bpy.types.Operator):
 
 
 def _polygon_under_mouse(context, obj, event):
-    region, rv3d = context.region, context.region_data
-    coord = (event.mouse_region_x, event.mouse_region_y)
-    origin = view3d_utils.region_2d_to_origin_3d(region, rv3d, coord)
-    direction = view3d_utils.region_2d_to_vector_3d(region, rv3d, coord)
-    to_local = obj.matrix_world.inverted()
-    local_origin = to_local @ origin
-    local_direction = (to_local.to_3x3() @ direction).normalized()
-    hit, _, _, polygon = obj.ray_cast(local_origin, local_direction)
+    ray = view_ray.mouse_ray(context, obj, event)
+    if ray is None:
+        return None
+    hit, _, _, polygon = obj.ray_cast(*ray)
     return polygon if hit and polygon >= 0 else None
 
 
