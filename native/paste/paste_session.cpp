@@ -26,7 +26,7 @@ double seconds_since(Clock::time_point t0) {
 
 /// Moving control points: at most this many per feature (its boundary vertices,
 /// evenly thinned); stationary ones on the rim circle.
-constexpr Index kMaxMovingPoints = 256;
+constexpr Index kMaxMovingPoints = 128;
 constexpr Index kRimPoints = 64;
 /// The X axis is the reference for rotation 0 unless it is within 25 degrees
 /// of the normal (then Y): a stable choice an artist can predict.
