@@ -13,34 +13,18 @@ Sphere Map as users do (INVOKE: a modal operator, the native call in a
 thread), cancels it as Esc or the panel's Cancel button would, checks the
 mesh is untouched, runs it again to the end; then quits."""
 import colorsys
-import json
 import os
 import sys
-import traceback
 
 import bpy
 import numpy as np
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
-for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
-    sys.path.insert(0, path)
-OUT = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_session import run_steps, screenshot_rgb, stats, view3d  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
 from paramorph import jobs  # noqa: E402
-
-steps = []
-stats = {}
-
-
-def view3d():
-    window = bpy.context.window_manager.windows[0]
-    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"),
-               key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return window, area, region
 
 
 def setup():
@@ -70,21 +54,12 @@ def setup():
 
 def picture(name):
     def take():
-        window, area, region = view3d()
-        area.tag_redraw()
-        path = os.path.join(OUT, f"{name}.png")
-        with bpy.context.temp_override(window=window, area=area, region=region):
-            bpy.ops.screen.screenshot_area(filepath=path)
-        image = bpy.data.images.load(path)
-        w, h = image.size
-        px = np.empty(w * h * 4, dtype=np.float32)
-        image.pixels.foreach_get(px)
-        rgb = px.reshape(-1, 4)[:, :3]
+        rgb = screenshot_rgb(name)
         saturation = rgb.max(axis=1) - rgb.min(axis=1)
         colored = rgb[saturation > 0.25]
         hues = np.array([colorsys.rgb_to_hsv(*c)[0] for c in colored[:: max(1, len(colored) // 4000)]])
         hue_bins = np.histogram(hues, bins=12, range=(0, 1))[0] if len(hues) else np.zeros(12)
-        stats[name] = {"pixels": int(w * h), "colored": int(len(colored)),
+        stats[name] = {"pixels": int(len(rgb)), "colored": int(len(colored)),
                        "hue_bins_used": int((hue_bins > 0.02 * max(1, len(hues))).sum())}
     return take
 
@@ -193,29 +168,10 @@ def morph_check_and_undo():
     stats["morph"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
 
 
-def finish():
-    with open(os.path.join(OUT, "overlay.json"), "w") as f:
-        json.dump(stats, f)
-    bpy.ops.wm.quit_blender()
-
-
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
          modal_invoke("second"), wait_for_jobs, None, modal_check("finished"),
-         morph_setup, None, picture("preview"), morph_invoke, wait_for_morph, None, morph_check_and_undo,
-         finish]
+         morph_setup, None, picture("preview"), morph_invoke, wait_for_morph, None, morph_check_and_undo]
 
 
-def tick():
-    try:
-        step = steps.pop(0)
-        if step is not None:
-            step()
-    except Exception:
-        stats["error"] = traceback.format_exc()
-        steps[:] = [finish]
-    return 0.5 if steps else None
-
-
-os.makedirs(OUT, exist_ok=True)
-bpy.app.timers.register(tick, first_interval=1.0)
+run_steps(steps, "overlay.json")

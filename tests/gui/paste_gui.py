@@ -12,31 +12,17 @@ invoked again and confirmed with Enter (mesh changed), and undone in one
 step. Writes OUT_DIR/paste.json (the test asserts on it), then quits."""
 import colorsys
 import hashlib
-import json
 import os
 import sys
-import traceback
 
 import bpy
 import numpy as np
 
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
-for path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
-    sys.path.insert(0, path)
-OUT = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_session import run_steps, screenshot_rgb, stats, view3d  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
-
-stats = {}
-
-
-def view3d():
-    window = bpy.context.window_manager.windows[0]
-    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return window, area, region
 
 
 def mesh_digest():
@@ -129,15 +115,7 @@ def modal_drive():
 
 def picture(name):
     def take():
-        window, area, region = view3d()
-        path = os.path.join(OUT, f"{name}.png")
-        with bpy.context.temp_override(window=window, area=area, region=region):
-            bpy.ops.screen.screenshot_area(filepath=path)
-        image = bpy.data.images.load(path)
-        w, h = image.size
-        px = np.empty(w * h * 4, dtype=np.float32)
-        image.pixels.foreach_get(px)
-        rgb = px.reshape(-1, 4)[:, :3]
+        rgb = screenshot_rgb(name)
         hsv = np.array([colorsys.rgb_to_hsv(*c) for c in rgb[::7]])
         orange = (hsv[:, 1] > 0.35) & (hsv[:, 0] > 0.03) & (hsv[:, 0] < 0.15) & (hsv[:, 2] > 0.2)
         stats[name] = {"orange_share": float(orange.mean())}
@@ -167,29 +145,11 @@ def undo_last():
     stats["modal_undone"] = mesh_digest()
 
 
-def finish():
-    with open(os.path.join(OUT, "paste.json"), "w") as f:
-        json.dump(stats, f)
-    bpy.ops.wm.quit_blender()
-
-
 steps = [setup, None, paste_exec_and_undo, None,
          picture("before"), modal_invoke("first"), wait_placing, None, modal_drive, None, picture("preview"),
          modal_cancel, None, record("cancelled"),
          modal_invoke("second"), wait_placing, None, modal_drive, None, modal_confirm, None, record("confirmed"),
-         undo_last, None, finish]
+         undo_last, None]
 
 
-def tick():
-    try:
-        step = steps.pop(0)
-        if step is not None:
-            step()
-    except Exception:
-        stats["error"] = traceback.format_exc()
-        steps[:] = [finish]
-    return 0.5 if steps else None
-
-
-os.makedirs(OUT, exist_ok=True)
-bpy.app.timers.register(tick, first_interval=1.0)
+run_steps(steps, "paste.json")

@@ -1,34 +1,14 @@
-"""The one GUI test: a real Blender window under Xvfb draws the region
+"""The overlay GUI test: a real Blender window under Xvfb draws the region
 overlay; pixels prove the region colours appear (and do not without it).
 Undo, which needs a window, is checked in the same run, and so are the
 modal operators (Sphere Map, Morph To) and the Preview Matches overlay."""
-import json
-import os
-import shutil
-import subprocess
-
-import pytest
-
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from window_run import needs_window, run_in_window
 
 
-@pytest.mark.skipif(shutil.which("xvfb-run") is None or shutil.which("blender") is None,
-                    reason="needs xvfb-run and blender (scripts/install-deps.sh installs both)")
+
+@needs_window
 def test_region_overlay_colours_the_viewport(tmp_path):
-    # Factory settings in a window open the first-run splash over the
-    # viewport: start from saved preferences (in a temp folder) without it.
-    env = dict(os.environ, BLENDER_USER_CONFIG=str(tmp_path / "config"),
-               BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"))
-    subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python-expr",
-                    "import bpy; bpy.context.preferences.view.show_splash = False; "
-                    "bpy.ops.wm.save_userpref()"], env=env, check=True, capture_output=True, timeout=120)
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", "blender",
-               "--python", os.path.join(REPO, "tests", "gui", "overlay_screenshot.py"), "--", str(tmp_path)]
-    run = subprocess.run(command, cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
-    report = tmp_path / "overlay.json"
-    assert report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
-    stats = json.loads(report.read_text())
-    assert "error" not in stats, stats["error"]
+    stats = run_in_window(tmp_path, "overlay_screenshot.py", "overlay.json")
     off, on = stats["off"], stats["on"]
     # Grey shading on a grey background: only the UI's few coloured icons.
     assert off["colored"] < 0.005 * off["pixels"], stats

@@ -1,0 +1,67 @@
+"""What every window script under tests/gui shares (they run inside a real
+Blender under xvfb-run, not -b): the import paths, the output folder from
+`-- OUT_DIR`, the largest 3D View, viewport screenshots as pixels, and the
+step runner that drives a script from a timer (a window needs its event loop
+between steps) and writes the stats as JSON for the pytest side to assert on."""
+import json
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
+for _path in (BUILD, os.path.join(REPO, "addon"), os.path.join(REPO, "blend_samples")):
+    sys.path.insert(0, _path)
+OUT = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
+
+stats = {}
+
+
+def view3d():
+    """(window, area, region) of the largest 3D View."""
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    region = next(r for r in area.regions if r.type == "WINDOW")
+    return window, area, region
+
+
+def screenshot_rgb(name):
+    """Screenshot of the 3D View saved as OUT/<name>.png; its pixels, (n, 3) float RGB."""
+    window, area, region = view3d()
+    area.tag_redraw()
+    path = os.path.join(OUT, f"{name}.png")
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    image = bpy.data.images.load(path)
+    w, h = image.size
+    px = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(px)
+    return px.reshape(-1, 4)[:, :3]
+
+
+def run_steps(steps, report):
+    """Runs steps (callables; None waits one tick) half a second apart; an
+    exception records its traceback in stats["error"] and skips to the end,
+    which writes OUT/<report> and quits Blender."""
+    def finish():
+        with open(os.path.join(OUT, report), "w") as f:
+            json.dump(stats, f)
+        bpy.ops.wm.quit_blender()
+
+    queue = list(steps) + [finish]
+
+    def tick():
+        try:
+            step = queue.pop(0)
+            if step is not None:
+                step()
+        except Exception:
+            stats["error"] = traceback.format_exc()
+            queue[:] = [finish]
+        return 0.5 if queue else None
+
+    os.makedirs(OUT, exist_ok=True)
+    bpy.app.timers.register(tick, first_interval=1.0)
