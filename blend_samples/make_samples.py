@@ -77,14 +77,31 @@ def build_octopus(name="Octopus", subdivisions=5, limbs=6, faces=None):
     return obj
 
 
-def build_cad_part(name="CadPart"):
-    """A CAD-like part: a plate with two cylindrical bosses and two ribs,
-    unioned into one closed manifold and triangulated."""
+def _plate(name):
+    """A 3 x 2 x 0.3 box centred at the origin, its scale applied."""
     bpy.ops.mesh.primitive_cube_add(size=1.0)
     plate = bpy.context.active_object
     plate.name = name
     plate.scale = (3.0, 2.0, 0.3)
     bpy.ops.object.transform_apply(scale=True)
+    return plate
+
+
+def _union(obj, tool):
+    """obj becomes obj united with tool (exact Boolean where the Blender has it); tool is deleted."""
+    union = obj.modifiers.new("Union", "BOOLEAN")
+    union.operation = "UNION"
+    union.object = tool
+    if hasattr(union, "solver"):
+        union.solver = "EXACT"
+    _apply_all_modifiers(obj)
+    bpy.data.objects.remove(tool, do_unlink=True)
+
+
+def build_cad_part(name="CadPart"):
+    """A CAD-like part: a plate with two cylindrical bosses and two ribs,
+    unioned into one closed manifold and triangulated."""
+    plate = _plate(name)
     tools = []
     for x in (-0.9, 0.9):
         bpy.ops.mesh.primitive_cylinder_add(vertices=32, radius=0.35, depth=0.6, location=(x, 0.4, 0.35))
@@ -95,13 +112,7 @@ def build_cad_part(name="CadPart"):
         rib.scale = (2.4, 0.12, 0.5)
         tools.append(rib)
     for tool in tools:
-        union = plate.modifiers.new("Union", "BOOLEAN")
-        union.operation = "UNION"
-        union.object = tool
-        if hasattr(union, "solver"):
-            union.solver = "EXACT"
-        _apply_all_modifiers(plate)
-        bpy.data.objects.remove(tool, do_unlink=True)
+        _union(plate, tool)
     plate.modifiers.new("Triangulate", "TRIANGULATE")
     _apply_all_modifiers(plate)
     return plate
@@ -113,20 +124,9 @@ def build_boss_plate(name="BossPlate", voxel_size=0.05):
     welded into one closed manifold surface by a voxel remesh (even quads,
     enough faces for the boss's detail). The boss and a ring of plate around
     its foot are the faces within BOSS_BALL of its top's centre."""
-    bpy.ops.mesh.primitive_cube_add(size=1.0)
-    plate = bpy.context.active_object
-    plate.name = name
-    plate.scale = (3.0, 2.0, 0.3)
-    bpy.ops.object.transform_apply(scale=True)
+    plate = _plate(name)
     bpy.ops.mesh.primitive_cylinder_add(vertices=48, radius=0.35, depth=0.3, location=(-0.6, 0.0, 0.3))
-    boss = bpy.context.active_object
-    union = plate.modifiers.new("Union", "BOOLEAN")
-    union.operation = "UNION"
-    union.object = boss
-    if hasattr(union, "solver"):
-        union.solver = "EXACT"
-    _apply_all_modifiers(plate)
-    bpy.data.objects.remove(boss, do_unlink=True)
+    _union(plate, bpy.context.active_object)
     remesh = plate.modifiers.new("Remesh", "REMESH")
     remesh.mode = "VOXEL"
     remesh.voxel_size = voxel_size
