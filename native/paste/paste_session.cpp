@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/errors.h"
+#include "mesh/vertex_normals.h"
 #include "morph/closest_points.h"
 #include "paste/exponential_map.h"
 #include "paste/refine_region.h"
@@ -33,20 +34,6 @@ constexpr Index kRimPoints = 64;
 const double kReferenceLimit = std::cos(25.0 * M_PI / 180.0);
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-MatrixX3d area_weighted_vertex_normals(const MatrixX3d& V, const MatrixX3i& F) {
-  MatrixX3d N = MatrixX3d::Zero(V.rows(), 3);
-  for (Index f = 0; f < Index(F.rows()); ++f) {
-    const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a);  // twice the area times the unit normal
-    for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
-  }
-  for (Index v = 0; v < Index(V.rows()); ++v) {
-    const double len = N.row(v).norm();
-    if (len > 0) N.row(v) /= len;
-  }
-  return N;
-}
 
 /// Distance from the origin to the segment [a, b].
 double origin_segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -193,7 +180,10 @@ struct FeatureGrid {
 };
 
 /// Faces of the region in feature-plane coordinates, bucketed on a square
-/// grid for point location (rebuilt per placement: the region moves).
+/// grid for point location (rebuilt per placement: the region moves). Not
+/// MapLocator: building its CGAL tree over the region on every update made
+/// updates 20-45% slower (measured: 9.0 against 7.4 ms at the benchmark's
+/// scale 0.3, 27.8 against 19 ms at 0.6).
 class PlaneLocator {
  public:
   PlaneLocator(const std::vector<Index>& faces, const MatrixX3i& F, const std::vector<Eigen::Vector2d>& q,
@@ -253,8 +243,6 @@ PasteFit parse_paste_fit(const std::string& name) {
 }
 
 struct PasteSession::Impl {
-  MatrixX3d V;
-  MatrixX3i F;
   Feature feature;
   PasteOptions options;
   RegionRefiner refiner;
@@ -276,12 +264,10 @@ struct PasteSession::Impl {
   PasteStats stats;
 
   Impl(const MatrixX3d& V_, const MatrixX3i& F_, Feature feature_, const PasteOptions& options_)
-      : V(V_),
-        F(F_),
-        feature(std::move(feature_)),
+      : feature(std::move(feature_)),
         options(options_),
-        refiner(V, F),
-        tree(V, F),
+        refiner(V_, F_),  // holds the target (its TriMesh): V and F below are its
+        tree(V_, F_),
         plane(feature_plane(feature)),
         lookup(feature, plane),
         grid(feature, plane, lookup) {}
@@ -316,6 +302,8 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   next.anchor = anchor, next.rotation = rotation, next.scale = scale;
   check_options(next);
   const TriMesh& mesh = refiner.mesh();
+  const MatrixX3d& V = mesh.V();
+  const MatrixX3i& F = mesh.F();
   const MatrixX3i& FE = mesh.face_edges();
   const Csr& EF = mesh.edge_faces();
   const MatrixX2i& E = mesh.edges();
@@ -526,7 +514,7 @@ PasteSession::PasteSession(const MatrixX3d& V, const MatrixX3i& F, Feature featu
   impl_ = std::make_unique<Impl>(V, F, std::move(feature), options);
   Impl& s = *impl_;
   if (progress) progress->report(0.6, "paste: control points");
-  s.vertex_normals = area_weighted_vertex_normals(s.V, s.F);
+  s.vertex_normals = area_weighted_vertex_normals(V, F);
 
   // Control points in the feature plane: the boundary (thinned evenly) and
   // the rim circle. They never change, so the system is factored here once.

@@ -7,25 +7,12 @@
 #include <cmath>
 
 #include "mesh/tri_mesh.h"
+#include "mesh/vertex_normals.h"
 #include "paste/exponential_map.h"
 #include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::paste;
-
-namespace {
-
-MatrixX3d vertex_normals(const MatrixX3d& V, const MatrixX3i& F) {
-  MatrixX3d N = MatrixX3d::Zero(V.rows(), 3);
-  for (Index f = 0; f < Index(F.rows()); ++f) {
-    const Eigen::RowVector3d n = (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0)));
-    for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
-  }
-  N.rowwise().normalize();
-  return N;
-}
-
-}  // namespace
 
 TEST(ExponentialMap, IsTheRotatedProjectionOnAPlane) {
   auto [V, F] = test_meshes::bumpy_grid(20);
@@ -35,7 +22,7 @@ TEST(ExponentialMap, IsTheRotatedProjectionOnAPlane) {
   const Eigen::Vector3d anchor = (V.row(F(face, 0)) + V.row(F(face, 1)) + V.row(F(face, 2))).transpose() / 3;
   const double a = 0.4;
   const Eigen::Vector3d t(std::cos(a), std::sin(a), 0), n(0, 0, 1);
-  const ExponentialMap map = exponential_map(mesh, vertex_normals(V, F), face, anchor, t, n, 10.0);
+  const ExponentialMap map = exponential_map(mesh, area_weighted_vertex_normals(V, F), face, anchor, t, n, 10.0);
   ASSERT_EQ(Index(map.vertices.size()), Index(V.rows()));  // the radius holds the whole grid
   for (Index v = 0; v < Index(V.rows()); ++v) {
     const Eigen::Vector3d d = V.row(v).transpose() - anchor;
@@ -47,7 +34,7 @@ TEST(ExponentialMap, IsTheRotatedProjectionOnAPlane) {
 TEST(ExponentialMap, FollowsGeodesicDistanceOnASphereAndStopsAtItsRadius) {
   const auto [V, F] = test_meshes::icosphere(5);
   const TriMesh mesh(V, F);
-  const MatrixX3d N = vertex_normals(V, F);
+  const MatrixX3d N = area_weighted_vertex_normals(V, F);
   // The face nearest the north pole.
   Index face = 0;
   for (Index f = 0; f < Index(F.rows()); ++f)
