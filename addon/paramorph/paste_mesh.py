@@ -99,37 +99,37 @@ def _get_ids(mesh, name):
     return values.astype(np.int64)
 
 
+# Attribute data type -> (field, numpy dtype, width) for foreach_get/set.
+_FIELDS = {"FLOAT": ("value", np.float32, 1), "INT": ("value", np.int32, 1), "INT8": ("value", np.int32, 1),
+           "BOOLEAN": ("value", bool, 1), "FLOAT_VECTOR": ("vector", np.float32, 3),
+           "FLOAT2": ("vector", np.float32, 2), "FLOAT_COLOR": ("color", np.float32, 4),
+           "BYTE_COLOR": ("color", np.float32, 4)}
+
+
+def _attribute_layers(mesh, domain, skip, types):
+    """(name, field, dtype, width) of the mesh's `domain` attributes of `types`,
+    but not internal ones (".name") nor those named in `skip`."""
+    layers = []
+    for attribute in mesh.attributes:
+        if attribute.domain != domain or attribute.name.startswith(".") or attribute.name in skip:
+            continue
+        if attribute.data_type in types:
+            layers.append((attribute.name,) + _FIELDS[attribute.data_type])
+    return layers
+
+
 def _face_layers(mesh):
     """Face data to copy from source polygons: (collection, property, dtype, width)."""
     layers = [(("polygons",), "material_index", np.int32, 1), (("polygons",), "use_smooth", bool, 1)]
-    for attribute in mesh.attributes:
-        if attribute.domain != "FACE" or attribute.name.startswith(".") or attribute.name in (
-                FACE_ID, "material_index", "sharp_face"):
-            continue
-        field, dtype, width = {"FLOAT": ("value", np.float32, 1), "INT": ("value", np.int32, 1),
-                               "BOOLEAN": ("value", bool, 1), "FLOAT_VECTOR": ("vector", np.float32, 3),
-                               "FLOAT_COLOR": ("color", np.float32, 4), "BYTE_COLOR": ("color", np.float32, 4),
-                               "FLOAT2": ("vector", np.float32, 2), "INT8": ("value", np.int32, 1)
-                               }.get(attribute.data_type, (None, None, None))
-        if field is not None:
-            layers.append((attribute.name, field, dtype, width))
-    return layers
+    return layers + _attribute_layers(mesh, "FACE", (FACE_ID, "material_index", "sharp_face"), _FIELDS)
 
 
 def _corner_layers(mesh):
-    """Corner data to interpolate on new faces: UV maps and corner attributes."""
+    """Corner data to interpolate on new faces: UV maps and corner attributes
+    (not booleans: they do not interpolate)."""
     layers = [(("uv", uv.name), "uv", np.float32, 2) for uv in mesh.uv_layers]
     uv_names = {uv.name for uv in mesh.uv_layers}
-    for attribute in mesh.attributes:
-        if attribute.domain != "CORNER" or attribute.name.startswith(".") or attribute.name in uv_names:
-            continue
-        field, dtype, width = {"FLOAT": ("value", np.float32, 1), "INT": ("value", np.int32, 1),
-                               "FLOAT_VECTOR": ("vector", np.float32, 3), "FLOAT2": ("vector", np.float32, 2),
-                               "FLOAT_COLOR": ("color", np.float32, 4), "BYTE_COLOR": ("color", np.float32, 4),
-                               }.get(attribute.data_type, (None, None, None))
-        if field is not None:
-            layers.append((attribute.name, field, dtype, width))
-    return layers
+    return layers + _attribute_layers(mesh, "CORNER", uv_names, set(_FIELDS) - {"BOOLEAN", "INT8"})
 
 
 def _new_corners(mesh, polygons, vertex_ids, V, F, V2, triangles, tri_loops):
