@@ -447,14 +447,20 @@ def _added_mesh_object(path, wanted, label):
     return meshes[0]
 
 
+def start_two_file_command(args, source_label, target_label):
+    """For morph and paste: both input files exist (else CliError naming the
+    missing one), then an empty scene with the add-on enabled."""
+    for label, path in ((source_label, args.source), (target_label, args.target)):
+        if not os.path.isfile(path):
+            raise CliError(f"{label}: {path}: no such file")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    enable_addon(args.backend)
+
+
 def morph_main(args):
     name = "paramorph morph"
     try:
-        for label, path in (("A", args.source), ("B", args.target)):
-            if not os.path.isfile(path):
-                raise CliError(f"{label}: {path}: no such file")
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        enable_addon(args.backend)
+        start_two_file_command(args, "A", "B")
         source, target = (_added_mesh_object(os.path.abspath(path), wanted, label)
                           for label, path, wanted in (("A", args.source, args.source_object),
                                                       ("B", args.target, args.target_object)))
@@ -532,11 +538,7 @@ def select_feature_faces(args, source):
 def paste_main(args):
     name = "paramorph paste"
     try:
-        for label, path in (("SOURCE", args.source), ("TARGET", args.target)):
-            if not os.path.isfile(path):
-                raise CliError(f"{label}: {path}: no such file")
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        enable_addon(args.backend)
+        start_two_file_command(args, "SOURCE", "TARGET")
         options = paste_options(args)
         check_ranges(args.parser, bpy.ops.paramorph.paste_feature, options, PASTE_FLAGS)
         copy_options = {} if args.resolution is None else {"resolution": args.resolution}
