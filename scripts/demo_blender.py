@@ -187,18 +187,27 @@ def render_still(scene, png):
         raise RuntimeError(f"the render wrote no {png}")
 
 
-def main():
+def start(prog, resolution, add_arguments=None):
+    """Every demo's start: its command line after "--" (--out, created, and
+    --resolution; add_arguments(parser) adds its own), then an empty scene
+    with the add-on enabled. Returns (args, absolute output folder)."""
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    parser = argparse.ArgumentParser(prog="demo_blender.py")
+    parser = argparse.ArgumentParser(prog=prog)
     parser.add_argument("--out", default=os.path.join(REPO, "out"), help="output folder")
-    parser.add_argument("--resolution", type=int, nargs=2, default=(1280, 720), metavar=("W", "H"))
-    parser.add_argument("--max-iterations", type=int, default=1000, help="unwrap iterations")
+    parser.add_argument("--resolution", type=int, nargs=2, default=resolution, metavar=("W", "H"))
+    if add_arguments is not None:
+        add_arguments(parser)
     args = parser.parse_args(argv)
     out_dir = os.path.abspath(args.out)
     os.makedirs(out_dir, exist_ok=True)
-
     bpy.ops.wm.read_factory_settings(use_empty=True)
     enable_addon()
+    return args, out_dir
+
+
+def main():
+    args, out_dir = start("demo_blender.py", (1280, 720), lambda parser: parser.add_argument(
+        "--max-iterations", type=int, default=1000, help="unwrap iterations"))
     steps = [sphere_map_suzanne, lambda: unwrap_disc(args.max_iterations),
              segment_octopus, segment_cad_part]
     objects = []

@@ -9,7 +9,6 @@ objects), then Morph To over N frames (eased). The morph object carries
 Suzanne's region colours; the two inputs are hidden. Saves DIR/morph.blend and
 renders the first, middle and last frames with Workbench to
 DIR/morph_####.png."""
-import argparse
 import os
 import sys
 
@@ -32,17 +31,8 @@ def morph_corners(obj, frames):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    parser = argparse.ArgumentParser(prog="demo_morph.py")
-    parser.add_argument("--out", default=os.path.join(demo_blender.REPO, "out"), help="output folder")
-    parser.add_argument("--frames", type=int, default=48, help="length of the morph")
-    parser.add_argument("--resolution", type=int, nargs=2, default=(960, 720), metavar=("W", "H"))
-    args = parser.parse_args(argv)
-    out_dir = os.path.abspath(args.out)
-    os.makedirs(out_dir, exist_ok=True)
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    demo_blender.enable_addon()
+    args, out_dir = demo_blender.start("demo_morph.py", (960, 720), lambda parser: parser.add_argument(
+        "--frames", type=int, default=48, help="length of the morph"))
     source, target = make_samples.build_morph_pair()
     bpy.ops.paramorph.preview_matches()
     pairs = len(bpy.context.scene.paramorph_matches.pairs)

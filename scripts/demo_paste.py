@@ -9,7 +9,6 @@ a ring of plate around it selected (the faces within BOSS_BALL), Copy
 Feature; then on the curved body, Paste Feature at the top of the body and
 again, turned and smaller, on its side. Saves DIR/paste.blend (both objects
 and the stored feature) and a Workbench render DIR/paste.png."""
-import argparse
 import math
 import os
 import sys
@@ -37,16 +36,7 @@ def select_ball(obj, ball):
 
 
 def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    parser = argparse.ArgumentParser(prog="demo_paste.py")
-    parser.add_argument("--out", default=os.path.join(demo_blender.REPO, "out"), help="output folder")
-    parser.add_argument("--resolution", type=int, nargs=2, default=(960, 720), metavar=("W", "H"))
-    args = parser.parse_args(argv)
-    out_dir = os.path.abspath(args.out)
-    os.makedirs(out_dir, exist_ok=True)
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    demo_blender.enable_addon()
+    args, out_dir = demo_blender.start("demo_paste.py", (960, 720))
     source, target = make_samples.build_paste_pair()
 
     demo_blender.activate(source)
