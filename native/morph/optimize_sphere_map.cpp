@@ -13,7 +13,7 @@
 #include "common/errors.h"
 #include "mesh/validate.h"
 #include "morph/radial_projection.h"
-#include "morph/sphere_map_barrier.h"
+#include "param/spherical/sphere_map_barrier.h"
 #include "morph/sphere_map_nlp.h"
 
 namespace paramorph::morph {
@@ -250,15 +250,15 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // A start with faces squeezed to rounding is opened first (see
   // sphere_map_barrier); if the barrier's steps run out before its path
   // begins, Ipopt starts cold from the point reached, with all its iterations.
-  SphereBarrierResult barrier;
+  spherical::SphereBarrierResult barrier;
   VectorXd multipliers;
   if (o.warm_start) {
     const double pull_scale = pull.rowwise().norm().mean();
-    SphereBarrierOptions barrier_options;
+    spherical::SphereBarrierOptions barrier_options;
     barrier_options.epsilon = result.epsilon;
     barrier_options.mu_start = mean_det * pull_scale;
     barrier_options.mu_end = 1e-4 * barrier_options.mu_start;
-    barrier = sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
+    barrier = spherical::sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
     start = barrier.positions;
     result.barrier_steps = barrier.steps;
   }

@@ -12,7 +12,7 @@
 #include "common/progress.h"
 #include "features/match_features.h"
 #include "mesh/types.h"
-#include "morph/closest_points.h"
+#include "mesh/closest_points.h"
 #include "morph/register_surfaces.h"
 
 namespace paramorph::morph {

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
-#include "morph/closest_points.h"
+#include "mesh/closest_points.h"
 #include "morph/pair_nearest_points.h"
 #include "morph/register_surfaces.h"
 #include "test_meshes.h"

@@ -18,10 +18,12 @@
 // model lets small faces fold, then ~80 more with inertia corrections.
 #pragma once
 
+#include <vector>
+
 #include "common/progress.h"
 #include "mesh/types.h"
 
-namespace paramorph::morph {
+namespace paramorph::spherical {
 
 struct SphereBarrierOptions {
   double epsilon = 0;      ///< the absolute bound of (4.10)
@@ -34,6 +36,13 @@ struct SphereBarrierOptions {
   /// tentacle_sphere(3) spent 250 full steps of one round each lowering E by
   /// ~1e-5 of itself. The next round and Ipopt do not need an exact centre.
   int max_round_steps = 20;
+  /// Vertices that do not move (hard pins): left out of the Newton systems
+  /// and copied bit for bit into the result.
+  std::vector<Index> fixed;
+  /// Per-face factors of the barrier weight (#F, positive; all 1 when
+  /// empty): a face whose target is small on the sphere gets a weaker
+  /// barrier, so it may become as small as its target (pinned_sphere_map).
+  VectorXd face_weights;
 };
 
 struct SphereBarrierResult {
@@ -65,4 +74,4 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
 double sphere_barrier_energy(const MatrixX3i& F, const MatrixX3d& pull, const VectorXd& bounds,
                              const VectorXd& mu, const MatrixX3d& X, MatrixX3d* gradient = nullptr);
 
-}  // namespace paramorph::morph
+}  // namespace paramorph::spherical
