@@ -64,17 +64,23 @@ class PARAMORPH_PT_main(bpy.types.Panel):
     def draw_morph(context, layout):
         col = layout.column(align=True)
         col.label(text="Morph (select source, then target)")
-        col.operator("paramorph.preview_matches")
+        row = col.row(align=True)
+        row.operator("paramorph.pick_pins", icon="PINNED")
+        row.operator("paramorph.preview_matches", icon="VIEWZOOM")
         matches = context.scene.paramorph_matches
         if matches.source is not None and matches.target is not None:
-            col.label(text=f"{matches.source.name} → {matches.target.name}: {len(matches.pairs)} pairs")
+            pins = sum(p.pin for p in matches.pairs)
+            col.label(text=f"{matches.source.name} → {matches.target.name}: {pins} pins, "
+                           f"{len(matches.pairs) - pins} pairs")
+            draw_candidates(col, matches)
             col.template_list("PARAMORPH_UL_match_pairs", "", matches, "pairs", matches, "pair_index", rows=4)
             row = col.row(align=True)
-            row.operator("paramorph.add_pin", icon="PINNED")
+            row.operator("paramorph.add_pin", text="Add Pin", icon="ADD")
             row.operator("paramorph.remove_pair", text="Remove", icon="REMOVE")
-            row.operator("paramorph.clear_matches", text="", icon="X")
+            row = col.row(align=True)
+            row.operator("paramorph.clear_pins", text="Clear Pins", icon="UNPINNED")
+            row.operator("paramorph.clear_matches", text="Clear", icon="X")
         col.operator("paramorph.morph_to")
-
 
     @staticmethod
     def draw_paste(context, layout):
@@ -90,13 +96,43 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                   icon="PASTEDOWN" if last is not None else "INFO")
 
 
+def draw_candidates(layout, matches):
+    """The chosen candidate in one line ("Chosen: extremities — 6 tips paired, score 0.67")
+    and, in a box that opens, every candidate with its score or why it was rejected."""
+    if not len(matches.candidates):
+        return
+    from .ops_morph import candidate_line
+    chosen = next((c for c in matches.candidates if c.chosen), None)
+    if chosen is not None:
+        layout.label(text=f"Chosen: {candidate_line(chosen)}", icon="CHECKMARK")
+    box = layout.box()
+    box.prop(matches, "show_candidates", emboss=False,
+             text=f"Candidates ({len(matches.candidates)})",
+             icon="TRIA_DOWN" if matches.show_candidates else "TRIA_RIGHT")
+    if not matches.show_candidates:
+        return
+    column = box.column(align=True)
+    for c in matches.candidates:
+        icon = "CHECKMARK" if c.chosen else ("CANCEL" if c.rejected else "BLANK1")
+        column.label(text=candidate_line(c), icon=icon)
+
+
 class PARAMORPH_UL_match_pairs(bpy.types.UIList):
-    """One previewed pair per row: source vertex, target vertex, score; pins marked."""
+    """One row per pin or pair: pins with editable source and target vertex
+    indices, numbered as Morph To's messages number them ("pin 0"); the
+    automatic pairs read-only with the candidate they came from."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
         row = layout.row(align=True)
-        row.label(text=f"{item.vertex_a} ↔ {item.vertex_b}", icon="PINNED" if item.pin else "DOT")
-        row.label(text="pin" if item.pin else f"{item.score:.3f}")
+        if item.pin:
+            number = sum(p.pin for p in data.pairs[:index])
+            row.label(text=f"pin {number}", icon="PINNED")
+            row.prop(item, "vertex_a", text="", emboss=True)
+            row.label(text="→")
+            row.prop(item, "vertex_b", text="", emboss=True)
+        else:
+            row.label(text=f"{item.vertex_a} → {item.vertex_b}", icon="DOT")
+            row.label(text=item.kind or "pair")
 
 
 class PARAMORPH_OT_select_object(bpy.types.Operator):
