@@ -457,8 +457,14 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         return morph_report(obj, result, source, target, state["previewed"])
 
 
+# The last finished Morph To in this session: {"object", "chosen", "held", "notes"}
+# (the batch CLI prints it; scripts may read it). None before the first.
+last_morph = None
+
+
 def morph_report(obj, result, source, target, previewed=False):
     """Morph To's one-line report: the chosen candidate, what holds exactly, inside-out files, time."""
+    global last_morph
     pins = int(np.count_nonzero(np.asarray(result.pair_is_pin)))
     pairs = len(result.pairs) - pins
     chosen = result.candidates[result.chosen]
@@ -466,6 +472,7 @@ def morph_report(obj, result, source, target, previewed=False):
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
     seconds = result.timings[-1][1] if result.timings else 0.0
     notes = inside_out_note(result, source, target)
+    last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
     return (f"Morph To: {obj.name}, {len(result.faces)} faces; {how} {candidate_line(chosen)}; {held}"
             + "".join(f"; {n}" for n in notes) + f"; {seconds:.1f} s")
 
