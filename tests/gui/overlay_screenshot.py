@@ -11,7 +11,9 @@ OUT_DIR/overlay.json (the test asserts on them); then undoes the
 segmentation (undo needs a window) and records what is left; then runs
 Sphere Map as users do (INVOKE: a modal operator, the native call in a
 thread), cancels it as Esc or the panel's Cancel button would, checks the
-mesh is untouched, runs it again to the end; then quits."""
+mesh is untouched, runs it again to the end; then Preview Matches (its
+candidates are stored) and Morph To as a modal operator, undone; then quits.
+(Pick Pins' overlay has its own window test: pick_pins_gui.py.)"""
 import colorsys
 import os
 import sys
@@ -135,7 +137,10 @@ def morph_setup():
         stats["morph"] = {"preview": sorted(bpy.ops.paramorph.preview_matches("EXEC_DEFAULT", True))}
     for obj in (source, target):
         obj.select_set(False)  # no selection outline in the picture
-    stats["morph"]["pairs"] = len(bpy.context.scene.paramorph_matches.pairs)
+    matches = bpy.context.scene.paramorph_matches
+    stats["morph"]["pairs"] = len(matches.pairs)
+    stats["morph"]["candidates"] = len(matches.candidates)
+    stats["morph"]["chosen"] = sum(c.chosen for c in matches.candidates)
     stats["morph"]["objects_before"] = sorted(o.name for o in bpy.data.objects)
 
 
@@ -171,7 +176,7 @@ def morph_check_and_undo():
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
          modal_invoke("second"), wait_for_jobs, None, modal_check("finished"),
-         morph_setup, None, picture("preview"), morph_invoke, wait_for_morph, None, morph_check_and_undo]
+         morph_setup, None, morph_invoke, wait_for_morph, None, morph_check_and_undo]
 
 
 run_steps(steps, "overlay.json")
