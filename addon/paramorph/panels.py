@@ -64,15 +64,15 @@ class PARAMORPH_PT_main(bpy.types.Panel):
     def draw_morph(context, layout):
         col = layout.column(align=True)
         col.label(text="Morph (select source, then target)")
-        row = col.row(align=True)
-        row.operator("paramorph.pick_pins", icon="PINNED")
-        row.operator("paramorph.preview_matches", icon="VIEWZOOM")
+        col.operator("paramorph.pick_pins", icon="PINNED")
+        col.operator("paramorph.preview_matches", icon="VIEWZOOM")
         matches = context.scene.paramorph_matches
         if matches.source is not None and matches.target is not None:
             pins = sum(p.pin for p in matches.pairs)
-            col.label(text=f"{matches.source.name} → {matches.target.name}: {pins} pins, "
-                           f"{len(matches.pairs) - pins} pairs")
-            draw_candidates(col, matches)
+            col.label(text=f"{matches.source.name} → {matches.target.name}")
+            col.label(text=f"{pins} pin{'' if pins == 1 else 's'}, {len(matches.pairs) - pins} "
+                           f"automatic pair{'' if len(matches.pairs) - pins == 1 else 's'}")
+            draw_candidates(context, col, matches)
             col.template_list("PARAMORPH_UL_match_pairs", "", matches, "pairs", matches, "pair_index", rows=4)
             row = col.row(align=True)
             row.operator("paramorph.add_pin", text="Add Pin", icon="ADD")
@@ -96,43 +96,63 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                   icon="PASTEDOWN" if last is not None else "INFO")
 
 
-def draw_candidates(layout, matches):
-    """The chosen candidate in one line ("Chosen: extremities — 6 tips paired, score 0.67")
-    and, in a box that opens, every candidate with its score or why it was rejected."""
+def _wrapped(layout, text, width, icon="BLANK1"):
+    for line in textwrap.wrap(text, width):
+        layout.label(text=line, icon=icon)
+
+
+def _score_text(candidate):
+    return "rejected" if candidate.rejected else f"{candidate.score:.3g}"
+
+
+def draw_candidates(context, layout, matches):
+    """The chosen candidate ("Chosen: extremities", its score beside what no
+    pairs scored, and what it paired) and, in a box that opens, every
+    candidate with its score, or why it was rejected, so the user sees
+    whether the automatic pairs beat no pairs."""
     if not len(matches.candidates):
         return
-    from .ops_morph import candidate_line
+    # Characters a sidebar line holds (labels are cut in the middle, not wrapped).
+    width = max(16, int(context.region.width / (7.0 * context.preferences.system.ui_scale)) - 5) \
+        if context.region is not None else 40
     chosen = next((c for c in matches.candidates if c.chosen), None)
+    none = next((c for c in matches.candidates if c.kind == "none"), None)
     if chosen is not None:
-        layout.label(text=f"Chosen: {candidate_line(chosen)}", icon="CHECKMARK")
+        layout.label(text=f"Chosen: {chosen.kind}", icon="CHECKMARK")
+        versus = f" (none: {_score_text(none)})" if none is not None and chosen.kind != "none" else ""
+        layout.label(text=f"score {_score_text(chosen)}{versus}", icon="BLANK1")
+        _wrapped(layout, chosen.detail, width)
     box = layout.box()
-    box.prop(matches, "show_candidates", emboss=False,
-             text=f"Candidates ({len(matches.candidates)})",
+    box.prop(matches, "show_candidates", emboss=False, text=f"Candidates ({len(matches.candidates)})",
              icon="TRIA_DOWN" if matches.show_candidates else "TRIA_RIGHT")
     if not matches.show_candidates:
         return
     column = box.column(align=True)
     for c in matches.candidates:
-        icon = "CHECKMARK" if c.chosen else ("CANCEL" if c.rejected else "BLANK1")
-        column.label(text=candidate_line(c), icon=icon)
+        split = column.split(factor=0.65, align=True)
+        split.label(text=c.kind, icon="CHECKMARK" if c.chosen else ("CANCEL" if c.rejected else "DOT"))
+        split.label(text=_score_text(c))
+        _wrapped(column, c.detail + (f"; rejected: {c.rejected}" if c.rejected else ""), width)
 
 
 class PARAMORPH_UL_match_pairs(bpy.types.UIList):
-    """One row per pin or pair: pins with editable source and target vertex
-    indices, numbered as Morph To's messages number them ("pin 0"); the
-    automatic pairs read-only with the candidate they came from."""
+    """One row per pin or pair: pins (the pin icon and their number, as Morph
+    To's messages number them: "pin 0") with editable source and target
+    vertex indices; the automatic pairs read-only with the candidate they came
+    from."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
-        row = layout.row(align=True)
         if item.pin:
             number = sum(p.pin for p in data.pairs[:index])
-            row.label(text=f"pin {number}", icon="PINNED")
+            split = layout.split(factor=0.22, align=True)
+            split.label(text=str(number), icon="PINNED")
+            row = split.row(align=True)
             row.prop(item, "vertex_a", text="", emboss=True)
-            row.label(text="→")
             row.prop(item, "vertex_b", text="", emboss=True)
         else:
-            row.label(text=f"{item.vertex_a} → {item.vertex_b}", icon="DOT")
-            row.label(text=item.kind or "pair")
+            split = layout.split(factor=0.6, align=True)
+            split.label(text=f"{item.vertex_a} → {item.vertex_b}", icon="DOT")
+            split.label(text=item.kind or "pair")
 
 
 class PARAMORPH_OT_select_object(bpy.types.Operator):
