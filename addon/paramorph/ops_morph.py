@@ -209,7 +209,8 @@ class _TwoMeshes(NativeOperator):
         text = str(error)
         pair = f"{state['source']} → {state['target']}"
         if isinstance(error, native.ConstraintError):  # a vertex pinned twice, mirrored pins
-            return f"{pair}: {text} (A: {state['source']}, B: {state['target']}): edit or remove pins in the Paramorph panel"
+            return (f"{pair}: {text} (A: {state['source']}, B: {state['target']}): "
+                    "edit or remove pins in the Paramorph panel")
         for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
             if text.startswith(tag):
                 stripped = _with_text(error, text[len(tag):])
