@@ -106,11 +106,19 @@ def modal_cancel():
     jobs.cancel_all()
 
 
-def wait_for_jobs():
-    """Repeats (by re-inserting itself) until no job runs, for at most 60 s."""
-    stats["modal"]["waits"] = stats["modal"].get("waits", 0) + 1
-    if jobs.running() and stats["modal"]["waits"] < 120:
-        steps.insert(0, wait_for_jobs)
+def wait_for_jobs(written=lambda: True, key="modal"):
+    """A step that repeats (by re-inserting itself) while a job's thread runs or
+    what it writes is not there yet, for at most 60 s: the operator writes on
+    its first timer event after the thread ends, not when the thread ends."""
+    def wait():
+        stats[key]["waits"] = stats[key].get("waits", 0) + 1
+        if (jobs.running() or not written()) and stats[key]["waits"] < 120:
+            steps.insert(0, wait)
+    return wait
+
+
+def sphere_written():
+    return "Sphere" in bpy.data.objects["Big"].data.uv_layers
 
 
 def modal_check(label):
@@ -155,11 +163,8 @@ def morph_invoke():
     stats["morph"]["running"] = len(jobs.running())
 
 
-def wait_for_morph():
-    """As wait_for_jobs, for the morph (at most 60 s)."""
-    stats["morph"]["waits"] = stats["morph"].get("waits", 0) + 1
-    if jobs.running() and stats["morph"]["waits"] < 120:
-        steps.insert(0, wait_for_morph)
+def morph_written():
+    return "Octopus to OctopusB" in bpy.data.objects
 
 
 def morph_check_and_undo():
@@ -174,9 +179,9 @@ def morph_check_and_undo():
 
 
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
-         modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
-         modal_invoke("second"), wait_for_jobs, None, modal_check("finished"),
-         morph_setup, None, morph_invoke, wait_for_morph, None, morph_check_and_undo]
+         modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs(), None, modal_check("cancelled"),
+         modal_invoke("second"), wait_for_jobs(sphere_written), None, modal_check("finished"),
+         morph_setup, None, morph_invoke, wait_for_jobs(morph_written, "morph"), None, morph_check_and_undo]
 
 
 run_steps(steps, "overlay.json")
