@@ -208,9 +208,12 @@ class _TwoMeshes(NativeOperator):
         # The native side names the mesh ("mesh A: ..."/"mesh B: ..."): report it by object.
         text = str(error)
         pair = f"{state['source']} → {state['target']}"
-        if isinstance(error, native.ConstraintError):  # a vertex pinned twice, mirrored pins
+        if isinstance(error, native.ConstraintError):  # a vertex pinned twice, mirrored pins, folds
+            for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
+                if text.startswith(tag):
+                    text = f"{state[side]}: {text[len(tag):]}"
             return (f"{pair}: {text} (A: {state['source']}, B: {state['target']}): "
-                    "edit or remove pins in the Paramorph panel")
+                    "edit or remove pins or pairs in the Paramorph panel")
         for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
             if text.startswith(tag):
                 stripped = _with_text(error, text[len(tag):])
