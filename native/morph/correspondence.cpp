@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -11,11 +12,13 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
 #include "mesh/closest_points.h"
 #include "mesh/edge_path_distances.h"
 #include "mesh/gaussian_curvature.h"
 #include "mesh/simplify.h"
+#include "morph/flow_sphere_map.h"
 #include "morph/map_distortion.h"
 #include "morph/pin_order.h"
 #include "morph/point_location.h"
@@ -29,22 +32,6 @@ namespace paramorph::morph {
 namespace {
 
 using Pairs = std::vector<std::array<Index, 2>>;
-
-/// The proper rotation R (rows: p R) that best turns the weighted rows of
-/// `from` onto `to` (Kabsch); the shortest rotation for one row; the
-/// identity for none.
-Eigen::Matrix3d best_rotation(const MatrixX3d& from, const MatrixX3d& to, const VectorXd& w) {
-  if (from.rows() == 0) return Eigen::Matrix3d::Identity();
-  if (from.rows() == 1)
-    return Eigen::Quaterniond::FromTwoVectors(from.row(0).transpose(), to.row(0).transpose())
-        .toRotationMatrix()
-        .transpose();
-  const Eigen::Matrix3d covariance = from.transpose() * w.asDiagonal() * to;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * flip * svd.matrixV().transpose();
-}
 
 VectorXd vertex_areas(const MatrixX3d& V, const MatrixX3i& F) {
   VectorXd area = VectorXd::Zero(V.rows());
@@ -69,6 +56,22 @@ struct Side {
   features::ExtremityTips tips;
   std::string tips_note;                    ///< why there are no tips, when there are none
   std::vector<Index> model_tip;             ///< per tip: the model's peak of distance from the body it stands for
+  std::shared_ptr<const ClosestPointTree> tree;  ///< over the proxy, to read model points on its map
+
+  /// Where model vertices are on the proxy's map: at their closest points
+  /// on the proxy, interpolated (exact points, not the nearest proxy vertex:
+  /// a pin then needs no more than a rounding-sized nudge on the model).
+  MatrixX3d on_map(const std::vector<Index>& model_vertices) const {
+    MatrixX3d P(Index(model_vertices.size()), 3);
+    for (std::size_t k = 0; k < model_vertices.size(); ++k) P.row(Index(k)) = model_V->row(model_vertices[k]);
+    const ClosestPoints at = tree->query(P);
+    MatrixX3d out(P.rows(), 3);
+    for (Index k = 0; k < P.rows(); ++k) {
+      const auto f = F.row(at.face[k]);
+      out.row(k) = (at.bary(k, 0) * map.row(f[0]) + at.bary(k, 1) * map.row(f[1]) + at.bary(k, 2) * map.row(f[2])).normalized();
+    }
+    return out;
+  }
 };
 
 Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOptions& o, Progress* progress) {
@@ -79,6 +82,7 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   side.V = std::move(proxy.V);
   side.F = std::move(proxy.F);
   side.area = vertex_areas(side.V, side.F);
+  side.tree = std::make_shared<const ClosestPointTree>(side.V, side.F);
   side.curvature = smoothed_gaussian_curvature(TriMesh(side.V, side.F), 8);
   side.map = spherical::balanced_sphere_map(side.V, side.F, {}, progress).positions;
   side.map = side.map * best_rotation(side.map, side.V.rowwise().normalized(), side.area);
@@ -99,7 +103,7 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   }
   // A tip of the model: from the model vertex nearest the proxy's tip, up
   // the model's own distance from the body to its peak.
-  const ClosestPoints on = ClosestPointTree(side.V, side.F).query(V);
+  const ClosestPoints on = side.tree->query(V);
   const TriMesh mesh(V, F);
   std::vector<Index> body;
   for (Index v = 0; v < V.rows(); ++v)
@@ -144,26 +148,42 @@ Eigen::Matrix3d principal_axes(const Side& side) {
   return axes;
 }
 
-/// Proxy points of a candidate's pairs and the pins, on the two maps.
+/// The points a candidate's map must bring together: on A's map and on B's.
 struct PairPoints {
-  std::vector<Index> a, b;
+  std::vector<Eigen::RowVector3d> a, b;
+  void add(const Eigen::RowVector3d& on_a, const Eigen::RowVector3d& on_b) { a.push_back(on_a), b.push_back(on_b); }
+  MatrixX3d rows(const std::vector<Eigen::RowVector3d>& points) const {
+    MatrixX3d out(Index(points.size()), 3);
+    for (std::size_t k = 0; k < points.size(); ++k) out.row(Index(k)) = points[k];
+    return out;
+  }
+};
+
+/// A candidate before scoring: its pairs (carried to the models if it wins)
+/// and the pairs that only shape its map (a registration's samples).
+struct Raw {
+  std::string kind, detail;
+  Pairs pairs;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  ///< B's map's turn where there are no points
+  Pairs shape_pairs;
 };
 
 /// A candidate's map of B's proxy: B's map turned so the points face their
-/// partners (Kabsch; by `fallback` when there are none), then warped onto them.
-MatrixX3d candidate_map(const Side& A, const Side& B, const PairPoints& points, const Eigen::Matrix3d& fallback) {
-  const Index k = Index(points.a.size());
-  MatrixX3d on_a(k, 3), on_b(k, 3);
-  for (Index j = 0; j < k; ++j) {
-    on_a.row(j) = A.map.row(points.a[std::size_t(j)]);
-    on_b.row(j) = B.map.row(points.b[std::size_t(j)]);
-  }
-  const Eigen::Matrix3d R = k >= 1 ? best_rotation(on_b, on_a, VectorXd::Ones(k)) : fallback;
-  const MatrixX3d turned = B.map * R;
-  if (k == 0) return turned;
-  MatrixX3d warped = warp_points(turned, on_b * R, on_a, 16);
-  for (Index j = 0; j < k; ++j) warped.row(points.b[std::size_t(j)]) = on_a.row(j);
-  return warped;
+/// partners (Kabsch; by `fallback` when there are none), then carried onto
+/// them by the checked flow (flow_sphere_map), fold-free; where the proxy is
+/// too coarse for the flow (pins a proxy edge apart that the model can still
+/// hold) the same flow unchecked, whose folds the score then counts.
+MatrixX3d candidate_map(const Side& B, const PairPoints& points, const Eigen::Matrix3d& fallback) {
+  const MatrixX3d on_a = points.rows(points.a), on_b = points.rows(points.b);
+  const Eigen::Matrix3d R = on_a.rows() ? best_rotation(on_b, on_a) : fallback;
+  const SphereFlowResult flowed = flow_sphere_map(B.F, B.map * R, on_b * R, on_a, {});
+  if (flowed.reached >= 1) return flowed.positions;
+  return warp_points(B.map * R, on_b * R, on_a, 16);
+}
+
+/// Whether the points ask for a mirror image (pin_order).
+PinOrder points_order(const PairPoints& points) {
+  return points.a.size() >= 3 ? pin_order(points.rows(points.b), points.rows(points.a)) : PinOrder{};
 }
 
 /// Farthest-point samples of a point set (Euclidean), starting at row 0.
@@ -213,65 +233,11 @@ std::string degrees(double radians) {
   return out.str();
 }
 
-}  // namespace
-
-Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
-                              const Pairs& pins, const std::optional<Pairs>& given, const CorrespondenceOptions& o,
-                              Progress* progress) {
-  PM_REQUIRE(o.proxy_faces >= 100 && std::isfinite(o.tip_angle) && o.tip_angle > 0 &&
-                 std::isfinite(o.registered_tip_distance) && o.registered_tip_distance > 0 &&
-                 std::isfinite(o.pin_radius) && o.pin_radius >= 0,
-             InvalidInputError, "proxy_faces >= 100, tip_angle and registered_tip_distance > 0, pin_radius >= 0");
-  Correspondence out;
-  auto clock = std::chrono::steady_clock::now();
-  auto mark = [&](const char* stage) {
-    out.timings.emplace_back(stage, seconds_since(clock));
-    clock = std::chrono::steady_clock::now();
-  };
-  const Side A = for_mesh("A", [&] { return run_stage("proxy map A", 0.0, 0.4, progress, [&](Progress* p) { return build_side(VA, FA, o, p); }); });
-  const Side B = for_mesh("B", [&] { return run_stage("proxy map B", 0.4, 0.8, progress, [&](Progress* p) { return build_side(VB, FB, o, p); }); });
-  mark("proxies and their maps");
-  out.proxy_a = A.V, out.proxy_b = B.V, out.proxy_faces_a = A.F, out.proxy_faces_b = B.F;
-  out.map_a = A.map, out.map_b = B.map;
-
-  // The pins on the proxies: each model vertex's nearest proxy vertex.
-  const ClosestPoints pins_on_a = ClosestPointTree(A.V, A.F).query([&] {
-    MatrixX3d P(Index(pins.size()), 3);
-    for (std::size_t j = 0; j < pins.size(); ++j) P.row(Index(j)) = VA.row(pins[j][0]);
-    return P;
-  }());
-  const ClosestPoints pins_on_b = ClosestPointTree(B.V, B.F).query([&] {
-    MatrixX3d P(Index(pins.size()), 3);
-    for (std::size_t j = 0; j < pins.size(); ++j) P.row(Index(j)) = VB.row(pins[j][1]);
-    return P;
-  }());
-  PairPoints pin_points;
-  for (std::size_t j = 0; j < pins.size(); ++j) {
-    Index a, b;
-    pins_on_a.bary.row(Index(j)).maxCoeff(&a);
-    pins_on_b.bary.row(Index(j)).maxCoeff(&b);
-    pin_points.a.push_back(A.F(pins_on_a.face[Index(j)], a));
-    pin_points.b.push_back(B.F(pins_on_b.face[Index(j)], b));
-  }
-  if (pins.size() >= 3) {
-    MatrixX3d on_a(Index(pins.size()), 3), on_b(Index(pins.size()), 3);
-    for (std::size_t j = 0; j < pins.size(); ++j) {
-      on_a.row(Index(j)) = A.map.row(pin_points.a[j]);
-      on_b.row(Index(j)) = B.map.row(pin_points.b[j]);
-    }
-    const PinOrder order = pin_order(on_b, on_a);
-    PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
-  }
-
-  // Candidates: (kind, detail, proxy pairs, rotation used below two pairs).
-  struct Raw {
-    std::string kind, detail;
-    Pairs pairs;
-    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-    /// Pairs that only shape the candidate's map (a registration's samples):
-    /// they are not carried to the models.
-    Pairs shape_pairs;
-  };
+/// Every candidate (DESIGN: none, extremities, registration, features), or
+/// the one "given" candidate.
+std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
+                                 const std::optional<Pairs>& given, const CorrespondenceOptions& o,
+                                 Progress* progress) {
   std::vector<Raw> raw;
   if (given) {
     Pairs proxy;
@@ -370,85 +336,171 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
       }
     }
   }
+  return raw;
+}
+
+}  // namespace
+
+Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                              const Pairs& pins, const std::optional<Pairs>& given, const CorrespondenceOptions& o,
+                              Progress* progress) {
+  PM_REQUIRE(o.proxy_faces >= 100 && std::isfinite(o.tip_angle) && o.tip_angle > 0 &&
+                 std::isfinite(o.registered_tip_distance) && o.registered_tip_distance > 0 &&
+                 std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0,
+             InvalidInputError,
+             "proxy_faces >= 100, tip_angle and registered_tip_distance > 0, pin_radius and fallbacks >= 0");
+  Correspondence out;
+  auto clock = std::chrono::steady_clock::now();
+  auto mark = [&](const char* stage) {
+    out.timings.emplace_back(stage, seconds_since(clock));
+    clock = std::chrono::steady_clock::now();
+  };
+  const Side A = for_mesh("A", [&] { return run_stage("proxy map A", 0.0, 0.4, progress, [&](Progress* p) { return build_side(VA, FA, o, p); }); });
+  const Side B = for_mesh("B", [&] { return run_stage("proxy map B", 0.4, 0.8, progress, [&](Progress* p) { return build_side(VB, FB, o, p); }); });
+  mark("proxies and their maps");
+  out.proxy_a = A.V, out.proxy_b = B.V, out.proxy_faces_a = A.F, out.proxy_faces_b = B.F;
+  out.map_a = A.map, out.map_b = B.map;
+
+  // The pins as exact points of the proxies' maps.
+  PairPoints pin_points;
+  {
+    std::vector<Index> va, vb;
+    for (const auto& pin : pins) va.push_back(pin[0]), vb.push_back(pin[1]);
+    const MatrixX3d on_a = A.on_map(va), on_b = B.on_map(vb);
+    for (Index j = 0; j < on_a.rows(); ++j) pin_points.add(on_a.row(j), on_b.row(j));
+    const PinOrder order = points_order(pin_points);
+    PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
+  }
+  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, given, o, progress);
   mark("candidates");
 
-  // Score every distinct candidate.
+  // A proxy pair within pin_radius of a pin on either model.
+  auto near_pin = [&](const std::array<Index, 2>& pair) {
+    for (const auto& pin : pins)
+      if ((A.V.row(pair[0]) - VA.row(pin[0])).norm() < o.pin_radius ||
+          (B.V.row(pair[1]) - VB.row(pin[1])).norm() < o.pin_radius)
+        return true;
+    return false;
+  };
+
+  // Score every distinct candidate; keep what its realisation needs.
   std::set<Pairs> seen;
-  double best_score = std::numeric_limits<double>::infinity();
+  std::vector<std::size_t> raw_of;  // per kept candidate, its raw index
   for (std::size_t c = 0; c < raw.size(); ++c) {
     if (progress) progress->report(0.88 + 0.1 * double(c) / double(raw.size()), "scoring correspondences");
-    Raw& r = raw[c];
+    const Raw& r = raw[c];
     CorrespondenceCandidate candidate;
     candidate.kind = r.kind;
     candidate.detail = r.detail;
     // Automatic pairs away from the pins and from each other.
     PairPoints points = pin_points;
-    std::set<Index> used_a(pin_points.a.begin(), pin_points.a.end()), used_b(pin_points.b.begin(), pin_points.b.end());
+    std::set<Index> used_a, used_b;
     for (const auto& pair : r.pairs) {
-      bool clash = used_a.count(pair[0]) || used_b.count(pair[1]);
-      for (std::size_t j = 0; j < pins.size() && !clash; ++j)
-        clash = (A.V.row(pair[0]) - VA.row(pins[j][0])).norm() < o.pin_radius ||
-                (B.V.row(pair[1]) - VB.row(pins[j][1])).norm() < o.pin_radius;
-      if (clash) continue;
+      if (used_a.count(pair[0]) || used_b.count(pair[1]) || near_pin(pair)) continue;
       used_a.insert(pair[0]), used_b.insert(pair[1]);
       candidate.proxy_pairs.push_back(pair);
-      points.a.push_back(pair[0]);
-      points.b.push_back(pair[1]);
+      points.add(A.map.row(pair[0]), B.map.row(pair[1]));
     }
     for (const auto& pair : r.shape_pairs) {
-      if (used_a.count(pair[0]) || used_b.count(pair[1])) continue;
+      if (used_a.count(pair[0]) || used_b.count(pair[1]) || near_pin(pair)) continue;
       used_a.insert(pair[0]), used_b.insert(pair[1]);
-      points.a.push_back(pair[0]);
-      points.b.push_back(pair[1]);
+      points.add(A.map.row(pair[0]), B.map.row(pair[1]));
     }
     Pairs key = candidate.proxy_pairs;
     std::sort(key.begin(), key.end());
-    // Pairs make the candidate unless it has its own map (a registration) or
-    // is "none"/"given"; the same pairs as an earlier candidate add nothing.
+    // Pairs make the candidate unless it has its own samples (a
+    // registration) or is "none"/"given"; the same pairs as an earlier
+    // candidate add nothing.
     const bool by_pairs = r.shape_pairs.empty() && r.kind != "none" && r.kind != "given";
     if (by_pairs && (key.empty() || !seen.insert(key).second)) continue;
-    if (points.a.size() >= 3) {
-      MatrixX3d on_a(Index(points.a.size()), 3), on_b(Index(points.a.size()), 3);
-      for (std::size_t j = 0; j < points.a.size(); ++j) {
-        on_a.row(Index(j)) = A.map.row(points.a[j]);
-        on_b.row(Index(j)) = B.map.row(points.b[j]);
-      }
-      const PinOrder order = pin_order(on_b, on_a);
-      if (order.mirrored()) {
-        candidate.rejected = "its pairs are in mirrored order";
-        out.candidates.push_back(candidate);
-        continue;
-      }
+    raw_of.push_back(c);
+    if (points_order(points).mirrored()) {
+      candidate.rejected = "its pairs are in mirrored order";
+    } else {
+      const MatrixX3d warped = candidate_map(B, points, r.rotation);
+      candidate.distortion = map_distortion(A.V, A.F, A.map, B.V, B.F, warped).mean;
+      candidate.curvature_mismatch = curvature_mismatch(A, B, warped);
+      candidate.score = candidate.distortion + o.curvature_weight * candidate.curvature_mismatch;
+      if (!std::isfinite(candidate.score)) candidate.rejected = "its correspondence could not be measured";
     }
-    const MatrixX3d warped = candidate_map(A, B, points, r.rotation);
-    candidate.distortion = map_distortion(A.V, A.F, A.map, B.V, B.F, warped).mean;
-    candidate.curvature_mismatch = curvature_mismatch(A, B, warped);
-    candidate.score = candidate.distortion + o.curvature_weight * candidate.curvature_mismatch;
-    if (!std::isfinite(candidate.score)) candidate.rejected = "its correspondence could not be measured";
     out.candidates.push_back(candidate);
-    if (candidate.score < best_score || (r.kind == "given")) {
-      best_score = r.kind == "given" ? -1.0 : candidate.score;
-      out.chosen = Index(out.candidates.size()) - 1;
-      out.warped_b = warped;
-    }
   }
-  PM_REQUIRE(out.warped_b.rows() == B.V.rows(), ComputeError, "correspondence: no candidate could be scored");
   mark("scores");
 
-  // The winner's pairs on the models.
-  std::set<Index> used_a, used_b;
-  for (const auto& pin : pins) used_a.insert(pin[0]), used_b.insert(pin[1]);
-  // Given pairs are the user's vertices already; automatic ones stand for
-  // proxy vertices.
-  Pairs on_models = given ? *given : Pairs{};
-  if (!given)
-    for (const auto& pair : out.candidates[std::size_t(out.chosen)].proxy_pairs)
-      on_models.push_back({model_vertex(A, pair[0]), model_vertex(B, pair[1])});
-  for (const auto& [a, b] : on_models) {
-    if (used_a.count(a) || used_b.count(b)) continue;
-    used_a.insert(a), used_b.insert(b);
-    out.pairs.push_back({a, b});
+  // Ranked: "given" first (the user's), then by score; rejected ones never.
+  std::vector<Index> ranked;
+  for (Index k = 0; k < Index(out.candidates.size()); ++k)
+    if (out.candidates[std::size_t(k)].rejected.empty()) ranked.push_back(k);
+  std::stable_sort(ranked.begin(), ranked.end(), [&](Index x, Index y) {
+    const auto& cx = out.candidates[std::size_t(x)];
+    const auto& cy = out.candidates[std::size_t(y)];
+    if ((cx.kind == "given") != (cy.kind == "given")) return cx.kind == "given";
+    return cx.score < cy.score;
+  });
+  PM_REQUIRE(!ranked.empty(), ComputeError, "correspondence: no candidate could be scored");
+  if (ranked.size() > std::size_t(o.fallbacks) + 1) ranked.resize(std::size_t(o.fallbacks) + 1);
+  // "none" (the pins alone) last of all: with no pins it always holds.
+  for (Index k = 0; k < Index(out.candidates.size()); ++k)
+    if (out.candidates[std::size_t(k)].kind == "none" && out.candidates[std::size_t(k)].rejected.empty() &&
+        std::find(ranked.begin(), ranked.end(), k) == ranked.end())
+      ranked.push_back(k);
+
+  // The ranked candidates carried to the models: their pairs on the models'
+  // own vertices, and their map again with every pair and pin at its exact
+  // point (a registration's samples as they were).
+  for (const Index k : ranked) {
+    const Raw& r = raw[raw_of[std::size_t(k)]];
+    Realization real;
+    real.candidate = k;
+    std::set<Index> used_a, used_b;
+    for (const auto& pin : pins) used_a.insert(pin[0]), used_b.insert(pin[1]);
+    // Given pairs are the user's vertices already; automatic ones stand for
+    // proxy vertices.
+    Pairs on_models = given ? *given : Pairs{};
+    if (!given)
+      for (const auto& pair : out.candidates[std::size_t(k)].proxy_pairs)
+        on_models.push_back({model_vertex(A, pair[0]), model_vertex(B, pair[1])});
+    // On the models too, an automatic pair must keep pin_radius from every
+    // pin and earlier pair on both (a tip climbed to beside a pinned vertex
+    // would squeeze the map between them).
+    for (const auto& [a, b] : on_models) {
+      if (used_a.count(a) || used_b.count(b)) continue;
+      bool crowded = false;
+      for (const auto& pin : pins)
+        crowded = crowded || (VA.row(a) - VA.row(pin[0])).norm() < o.pin_radius ||
+                  (VB.row(b) - VB.row(pin[1])).norm() < o.pin_radius;
+      for (const auto& pair : real.pairs)
+        crowded = crowded || (VA.row(a) - VA.row(pair[0])).norm() < o.pin_radius ||
+                  (VB.row(b) - VB.row(pair[1])).norm() < o.pin_radius;
+      if (crowded && !given) continue;
+      used_a.insert(a), used_b.insert(b);
+      real.pairs.push_back({a, b});
+    }
+    PairPoints exact, shape;
+    std::vector<Index> va, vb;
+    for (const auto& pin : pins) va.push_back(pin[0]), vb.push_back(pin[1]);
+    for (const auto& pair : real.pairs) va.push_back(pair[0]), vb.push_back(pair[1]);
+    const MatrixX3d on_a = A.on_map(va), on_b = B.on_map(vb);
+    for (Index j = 0; j < on_a.rows(); ++j) exact.add(on_a.row(j), on_b.row(j));
+    std::set<Index> sampled_a, sampled_b;
+    for (const auto& pair : r.shape_pairs) {
+      bool near_pair = near_pin(pair);
+      for (std::size_t j = 0; j < real.pairs.size() && !near_pair; ++j)
+        near_pair = (B.V.row(pair[1]) - VB.row(real.pairs[j][1])).norm() < o.pin_radius;
+      if (!near_pair && sampled_a.insert(pair[0]).second && sampled_b.insert(pair[1]).second) {
+        exact.add(A.map.row(pair[0]), B.map.row(pair[1]));
+        shape.add(A.map.row(pair[0]), B.map.row(pair[1]));
+      }
+    }
+    real.rotation = r.rotation;
+    real.shape_a = shape.rows(shape.a);
+    real.shape_b = shape.rows(shape.b);
+    real.warped_b = candidate_map(B, exact, r.rotation);
+    out.ranked.push_back(std::move(real));
   }
+  out.chosen = out.ranked.front().candidate;
+  out.pairs = out.ranked.front().pairs;
+  out.warped_b = out.ranked.front().warped_b;
   mark("pairs on the models");
   if (progress) progress->report(1.0, "correspondence");
   return out;

@@ -20,13 +20,15 @@
 //      - features: the thesis' feature points (match_features, 4.5).
 //      The user's pins join every candidate; automatic pairs near a pin are
 //      dropped.
-//   3. Score: B's map is turned (Kabsch on the pairs) and warped
-//      (sphere_warp) until every pair coincides; every vertex of B's proxy is
+//   3. Score: B's map is turned (Kabsch on the pairs) and carried by a
+//      checked flow (flow_sphere_map) until every pair coincides; every vertex of B's proxy is
 //      read on A's proxy through the maps, and the score is the isometric
 //      distortion of that correspondence (map_distortion) plus how unlike the
 //      smoothed Gaussian curvatures are at corresponding points. A candidate
-//      whose pairs are in mirrored order is rejected. The lowest score wins,
-//      so an automatic candidate is used only when it beats "none".
+//      whose pairs are in mirrored order is rejected (a map it would fold
+//      where the proxy is too coarse for the flow is scored with its folds).
+//      The lowest score wins, so an automatic candidate is used only when it
+//      beats "none".
 //   4. The winner's pairs are carried to the models' own vertices: a tip to
 //      the model's own peak of distance from the body it stands for, any
 //      other proxy vertex to the model's nearest vertex.
@@ -72,8 +74,11 @@ struct CorrespondenceOptions {
   /// registration candidate's map.
   std::size_t registration_samples = 40;
   /// Automatic pairs closer than this to a pin, on either model, are dropped
-  /// (same units).
-  double pin_radius = 0.05;
+  /// (same units: about three edges of a 3k-face proxy; the pins rule there).
+  double pin_radius = 0.02;
+  /// Candidates after the best to try when the model's own map cannot meet
+  /// the best's pairs without folding (ranked by score).
+  int fallbacks = 2;
   /// Weight of the curvature mismatch beside the distortion in the score.
   double curvature_weight = 0.5;
   features::ExtremityOptions extremity;
@@ -101,17 +106,37 @@ struct CorrespondenceCandidate {
   std::string rejected;  ///< why it was not scored (empty when scored)
 };
 
+/// A ranked candidate carried to the models: what the morph needs to build
+/// its maps from it.
+struct Realization {
+  Index candidate = 0;  ///< index in Correspondence::candidates
+  /// Its automatic pairs on the models (vertex of A, of B), distinct
+  /// vertices, none on a pin's.
+  std::vector<std::array<Index, 2>> pairs;
+  /// Its map of B's proxy with every pin and pair at its exact point.
+  MatrixX3d warped_b;
+  /// Its turn of B's map where it has no points, and the points besides the
+  /// pins and pairs that shape its map (a registration's samples), on A's
+  /// proxy map and on B's.
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  MatrixX3d shape_a, shape_b;
+};
+
 struct Correspondence {
   MatrixX3d proxy_a, proxy_b;        ///< proxy vertices (correspondence frames)
   MatrixX3i proxy_faces_a, proxy_faces_b;
   MatrixX3d map_a, map_b;            ///< balanced sphere maps of the proxies, placed
   std::vector<CorrespondenceCandidate> candidates;
-  Index chosen = 0;                  ///< the candidate used
-  /// The chosen candidate's map of B's proxy: map_b turned and warped so its
-  /// pairs and pins lie on their partners of map_a.
+  Index chosen = 0;                  ///< the best candidate
+  /// The best candidates carried to the models, best first (at most
+  /// 1 + fallbacks, then "none"): the morph uses the first its model's map
+  /// can meet.
+  std::vector<Realization> ranked;
+  /// The best's map of B's proxy: map_b turned and carried so its pairs and
+  /// pins lie on their partners of map_a.
   MatrixX3d warped_b;
-  /// The chosen candidate's automatic pairs on the models (vertex of A, of
-  /// B), without the pins; distinct vertices.
+  /// The best's automatic pairs on the models (vertex of A, of B), without
+  /// the pins; distinct vertices.
   std::vector<std::array<Index, 2>> pairs;
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
 };

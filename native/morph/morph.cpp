@@ -1,15 +1,21 @@
 #include "morph/morph.h"
 
 #include <chrono>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <map>
 #include <utility>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
 #include "mesh/validate.h"
 #include "morph/correspondence_frame.h"
 #include "morph/map_distortion.h"
-#include "morph/pinned_sphere_map.h"
+#include "morph/flow_sphere_map.h"
 #include "param/spherical/map_through_proxy.h"
+#include "param/spherical/relax_sphere_map.h"
 #include "param/spherical/untangle_sphere_map.h"
 
 namespace paramorph::morph {
@@ -47,15 +53,16 @@ void check_pairs(const Pairs& pairs, Index na, Index nb, const char* what) {
 /// A model's map read off its proxy's map (the proxy itself when the model
 /// was small enough to be its own proxy), untangled.
 MatrixX3d read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
-                             const MatrixX3i& proxy_F, const MatrixX3d& proxy_map, const std::vector<Index>& fixed,
-                             const char* what) {
+                             const MatrixX3i& proxy_F, const MatrixX3d& proxy_map, const char* what) {
   if (proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F) return proxy_map;
   MatrixX3d X = spherical::map_through_proxy(V, proxy_V, proxy_F, proxy_map);
-  std::vector<char> flags(std::size_t(V.rows()), 0);
-  for (const Index v : fixed) flags[std::size_t(v)] = 1;
-  const spherical::SphereUntangleResult untangled = spherical::untangle_sphere_map(V, F, X, flags);
+  const spherical::SphereUntangleResult untangled =
+      spherical::untangle_sphere_map(V, F, X, std::vector<char>(std::size_t(V.rows()), 0));
   PM_REQUIRE(untangled.folded == 0, ComputeError, what, ": ", untangled.folded, " of ", untangled.folded_before,
              " faces stay folded where the model turns against its proxy");
+  // Where the model turns against its proxy (thin tips) the map can keep
+  // hair-thin faces spanning a sixth of the sphere: relax them.
+  spherical::relax_poor_regions(V, F, X, {});
   return X;
 }
 
@@ -106,34 +113,65 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   });
   m.timings = c.timings;
   m.candidates = c.candidates;
-  m.chosen = c.chosen;
-  for (const auto& pin : p.pins) m.pairs.push_back(pin), m.pair_is_pin.push_back(true);
-  for (const auto& pair : c.pairs) m.pairs.push_back(pair), m.pair_is_pin.push_back(false);
 
-  // 3. The two maps.
+  // 3. The two maps. A's is its proxy's map read at its vertices; B's is its
+  // own map carried by the chosen correspondence's flow, from where its
+  // pinned vertices (and the winner's samples) are on it to where their
+  // partners are on A's map. Riding on their points, the pinned vertices end
+  // exactly on their partners. Where B's map cannot meet the best candidate
+  // without folding, the next best is tried.
   auto clock = std::chrono::steady_clock::now();
   auto mark = [&](const char* stage) {
     m.timings.emplace_back(stage, std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count());
     clock = std::chrono::steady_clock::now();
   };
-  std::vector<Index> pinned_a, pinned_b;
-  for (const auto& pair : m.pairs) pinned_a.push_back(pair[0]), pinned_b.push_back(pair[1]);
   m.sphere_a = for_mesh("A", [&] {
-    return read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a, {}, "A's map");
+    return read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a, "A's map");
   });
   if (progress) progress->report(0.75, "sphere map of B");
-  const MatrixX3d target_b = for_mesh("B", [&] {
-    if (c.proxy_b.rows() == p.b.V.rows() && c.proxy_faces_b == p.b.F) return c.warped_b;
-    return spherical::map_through_proxy(p.b.V, c.proxy_b, c.proxy_faces_b, c.warped_b);
+  const MatrixX3d own_b = for_mesh("B", [&] {
+    return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b, "B's map");
   });
-  MatrixX3d pins_on_a(Index(pinned_a.size()), 3);
-  for (std::size_t k = 0; k < pinned_a.size(); ++k) pins_on_a.row(Index(k)) = m.sphere_a.row(pinned_a[k]);
-  PinnedSphereOptions pinned;
-  pinned.target = target_b;
-  pinned.max_steps = 0;  // the targets untangled are the map: no barrier path
-  m.sphere_b = for_mesh("B", [&] {
-    return pinned_sphere_map(p.b.V, p.b.F, target_b, pinned_b, pins_on_a, pinned).positions;
-  });
+  std::string first_failure;
+  for (const Realization& real : c.ranked) {
+    std::vector<std::array<Index, 2>> held = p.pins;
+    held.insert(held.end(), real.pairs.begin(), real.pairs.end());
+    const Index count = Index(held.size()), shaped = real.shape_a.rows();
+    MatrixX3d from(count + shaped, 3), to(count + shaped, 3);
+    std::vector<std::pair<Index, Index>> riders;
+    for (Index k = 0; k < count; ++k) {
+      from.row(k) = own_b.row(held[std::size_t(k)][1]);
+      to.row(k) = m.sphere_a.row(held[std::size_t(k)][0]);
+      riders.emplace_back(held[std::size_t(k)][1], k);
+    }
+    from.bottomRows(shaped) = real.shape_b;
+    to.bottomRows(shaped) = real.shape_a;
+    const Eigen::Matrix3d turn = from.rows() ? best_rotation(from, to) : real.rotation;
+    const SphereFlowResult carried = run_stage("carrying B's map", 0.78, 0.85, progress, [&](Progress* window) {
+      return flow_sphere_map(p.b.F, own_b * turn, from * turn, to, riders, {}, ProgressWindow(window));
+    });
+    if (carried.reached < 1) {
+      std::vector<Index> named;
+      for (const Index j : carried.blocking)
+        if (j < Index(p.pins.size())) named.push_back(j);
+      const std::string why = detail::concat(
+          "its pins and pairs cannot all be met on the model without folding its map (stalled ",
+          int(100 * carried.reached), "% of the way", named.empty() ? std::string() : ", near pins " + format_indices(named),
+          ")");
+      if (first_failure.empty()) first_failure = why;
+      m.candidates[std::size_t(real.candidate)].rejected = why;
+      continue;
+    }
+    m.chosen = real.candidate;
+    m.sphere_b = carried.positions;
+    for (Index k = 0; k < count; ++k) m.sphere_b.row(held[std::size_t(k)][1]) = m.sphere_a.row(held[std::size_t(k)][0]);
+    for (const auto& pin : p.pins) m.pairs.push_back(pin), m.pair_is_pin.push_back(true);
+    for (const auto& pair : real.pairs) m.pairs.push_back(pair), m.pair_is_pin.push_back(false);
+    break;
+  }
+  PM_REQUIRE(m.sphere_b.rows() == p.b.V.rows(), ConstraintError, "mesh B: ", first_failure,
+             "; pins very close together on one mesh and further apart on the other, or crossing each other's "
+             "way, are the usual cause");
   mark("sphere maps of the models");
 
   // 4. Overlay, 5. positions on both meshes as placed.

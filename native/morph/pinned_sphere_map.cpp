@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
@@ -27,23 +28,39 @@ namespace {
 /// Triple products above -kRoundoff are not folds (as in optimize_sphere_map).
 constexpr double kRoundoff = 1e-13;
 
-/// The proper rotation R (rows: p R) that best turns the weighted rows of
-/// `from` onto `to` (Kabsch); for a single pair, the shortest rotation.
-Eigen::Matrix3d best_rotation(const MatrixX3d& from, const MatrixX3d& to, const VectorXd& w) {
-  if (from.rows() == 1) {
-    const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(from.row(0).transpose(), to.row(0).transpose());
-    return q.toRotationMatrix().transpose();
-  }
-  const Eigen::Matrix3d covariance = from.transpose() * w.asDiagonal() * to;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * flip * svd.matrixV().transpose();
-}
-
 MatrixX3d rows_of(const MatrixX3d& X, const std::vector<Index>& rows) {
   MatrixX3d out(Index(rows.size()), 3);
   for (std::size_t k = 0; k < rows.size(); ++k) out.row(Index(k)) = X.row(rows[k]);
+  return out;
+}
+
+/// Every point moved by the nudge of the pin whose support holds it: pin j
+/// moves `from` j onto `to` j and its neighbourhood with it, falling off
+/// smoothly to nothing at half the way to the nearest other pin (so the
+/// supports do not overlap), or at four times its own move where that is
+/// nearer.
+MatrixX3d nudge_to_pins(const MatrixX3d& X, const MatrixX3d& from, const MatrixX3d& to) {
+  const Index k = from.rows();
+  VectorXd radius(k);
+  for (Index j = 0; j < k; ++j) {
+    double nearest = 2.0;
+    for (Index i = 0; i < k; ++i)
+      if (i != j) nearest = std::min(nearest, (from.row(i) - from.row(j)).norm());
+    radius[j] = std::min(0.5 * nearest, std::max(4.0 * (to.row(j) - from.row(j)).norm(), 1e-12));
+  }
+  MatrixX3d out = X.rowwise().normalized();
+#pragma omp parallel for schedule(static)
+  for (Index v = 0; v < X.rows(); ++v) {
+    const Eigen::RowVector3d x = out.row(v);
+    for (Index j = 0; j < k; ++j) {
+      const double r = (x - from.row(j)).norm() / radius[j];
+      if (r >= 1) continue;
+      const double w = (1 - r * r) * (1 - r * r);  // smooth, 1 at the pin, 0 with its slope at the rim
+      const Eigen::RowVector3d move = log_map(from.row(j), to.row(j));
+      out.row(v) = exp_map(x, w * (move - move.dot(x) * x));
+      break;
+    }
+  }
   return out;
 }
 
@@ -128,13 +145,24 @@ PinnedSphereResult pinned_sphere_map(const MatrixX3d& V, const MatrixX3i& F, con
     PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
   }
 
-  // 1. Targets turned to the pins, then warped onto them.
-  result.rotation = k ? best_rotation(rows_of(target, pinned), pins, VectorXd::Ones(k)) : Eigen::Matrix3d::Identity();
-  target = target * result.rotation;
-  if (k) {
+  // 1. Targets turned to the pins, then warped onto them: targets built
+  // around the pins (a correspondence read through proxies misses a pin by
+  // about a proxy's edge) get a local nudge round each pin; others (a
+  // radial projection) the smooth global warp.
+  double largest_miss = 0;
+  for (Index j = 0; j < k; ++j)
+    largest_miss = std::max(largest_miss, (target.row(pinned[std::size_t(j)]).normalized() - pins.row(j)).norm());
+  if (k && largest_miss < o.local_nudge) {
+    result.rotation = Eigen::Matrix3d::Identity();
+    target = nudge_to_pins(target, rows_of(target, pinned), pins);
+  } else if (k) {
+    result.rotation = best_rotation(rows_of(target, pinned), pins, VectorXd::Ones(k));
+    target = target * result.rotation;
     target = warp_points(target, rows_of(target, pinned), pins, o.warp_steps);
-    for (Index j = 0; j < k; ++j) target.row(pinned[std::size_t(j)]) = pins.row(j);
+  } else {
+    result.rotation = Eigen::Matrix3d::Identity();
   }
+  for (Index j = 0; j < k; ++j) target.row(pinned[std::size_t(j)]) = pins.row(j);
   result.target = target;
   const MatrixX3d pull = weights.asDiagonal() * target;
 
@@ -156,6 +184,13 @@ PinnedSphereResult pinned_sphere_map(const MatrixX3d& V, const MatrixX3i& F, con
     }
   }
   if (!result.start_from_target) {
+    if (o.fallback_start) {
+      start = o.fallback_start().rowwise().normalized();
+      start_folds.clear();
+      for (Index f = 0; f < F.rows(); ++f)
+        if (!(start.row(F(f, 0)).dot(start.row(F(f, 1)).cross(start.row(F(f, 2)))) > -kRoundoff))
+          start_folds.push_back(f);
+    }
     PM_REQUIRE(start_folds.empty(), InvalidInputError, "the targets could not be untangled and the start map folds ",
                start_folds.size(), " faces (", format_indices(start_folds), "): give a fold-free sphere map");
     start = start * best_rotation(start, target, weights);
@@ -203,10 +238,22 @@ PinnedSphereResult pinned_sphere_map(const MatrixX3d& V, const MatrixX3i& F, con
       if (h >= 1.0 / 4096) continue;
       // Stalled: relax the free vertices towards the targets warped to
       // where the pins are now, then go on.
-      PM_REQUIRE(result.flow_relaxations < 12, ConstraintError,
-                 "the pins cannot all be reached without folding the map (stalled at ", int(100 * t),
-                 "% of the way); pins that cross each other's paths or sit very close together on one "
-                 "mesh and far apart on the other are the usual cause");
+      if (result.flow_relaxations >= 12) {
+        // Name the pins nearest the faces the last step would fold.
+        std::vector<std::pair<double, Index>> near;
+        for (Index f = 0; f < F.rows(); ++f) {
+          if (trial.row(F(f, 0)).dot(trial.row(F(f, 1)).cross(trial.row(F(f, 2)))) > -kRoundoff) continue;
+          for (Index j = 0; j < k; ++j) near.emplace_back((at.row(j) - trial.row(F(f, 0))).norm(), j);
+        }
+        std::sort(near.begin(), near.end());
+        std::vector<Index> named;
+        for (const auto& [distance, j] : near)
+          if (std::find(named.begin(), named.end(), j) == named.end() && named.size() < 4) named.push_back(j);
+        throw ConstraintError(detail::concat(
+            "the pins cannot all be reached without folding the map (stalled at ", int(100 * t),
+            "% of the way, near pins ", format_indices(named), "): pins very close together on one mesh and "
+            "further apart on the other, or crossing each other's way, are the usual cause"));
+      }
       ++result.flow_relaxations;
       spherical::SphereBarrierOptions relax = barrier;
       relax.mu_end = 1e-2 * relax.mu_start;
@@ -249,7 +296,7 @@ PinnedSphereResult pinned_sphere_map(const MatrixX3d& V, const MatrixX3i& F, con
   }
   barrier.mu_end = o.mu_ratio * barrier.mu_start;
   barrier.max_steps = o.max_steps;
-  if (o.max_steps > 0) {
+  if (o.max_steps > 0 && (!result.start_from_target || o.relax_untangled)) {
     const spherical::SphereBarrierResult solved = spherical::sphere_map_barrier(F, pull, start, barrier, ProgressWindow(progress, 0.3, 1.0));
     result.positions = solved.positions;
     result.barrier_steps = solved.steps;

@@ -6,9 +6,10 @@
 // the pins are constraints:
 //
 //   1. the targets (where every vertex of B would like to be: B's radial
-//      projection, or a registration carried onto A's map) are turned to
-//      fit the pins (Kabsch; one pin: the shortest rotation) and then
-//      warped (sphere_warp) so their pinned rows are the pins exactly;
+//      projection, or a correspondence carried onto A's map) are moved onto
+//      the pins: nudged locally round each pin where they already nearly
+//      meet them, else turned to fit them (Kabsch; one pin: the shortest
+//      rotation) and warped (sphere_warp) so their pinned rows are the pins;
 //   2. the start map is turned to face the targets and flowed by the same
 //      kind of warp until its pinned vertices are on the pins: every step is
 //      checked, halved where a face would fold, and where the steps stall
@@ -23,6 +24,7 @@
 // every face's triple product is positive.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -53,6 +55,16 @@ struct PinnedSphereOptions {
   /// Targets folding at most this share of the faces are the start
   /// themselves (untangled by the barrier) instead of the flowed `sphere`.
   double max_target_folds = 0.05;
+  /// Targets that miss no pin by more than this (chord) are nudged onto the
+  /// pins locally instead of warped globally (step 1).
+  double local_nudge = 0.05;
+  /// Run the barrier path (step 3) also when the untangled targets are the
+  /// start; false: the untangled targets are the map, and the path runs only
+  /// after the flow.
+  bool relax_untangled = true;
+  /// A fold-free start computed only where the targets cannot be untangled
+  /// (then used instead of the `sphere` argument, which may then be anything).
+  std::function<MatrixX3d()> fallback_start;
 };
 
 struct PinnedSphereResult {

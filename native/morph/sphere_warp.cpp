@@ -10,10 +10,7 @@ namespace paramorph::morph {
 
 namespace {
 
-double kernel(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
-  const double r = (a - b).norm();
-  return r * r * r;
-}
+double kernel(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) { return (a - b).norm(); }
 
 }  // namespace
 

@@ -4,24 +4,9 @@
 #include <cmath>
 #include <map>
 
-#include <Eigen/LU>
-#include <Eigen/SVD>
+#include "common/best_rotation.h"
 
 namespace paramorph::morph {
-
-namespace {
-
-/// The proper rotation R (rows: p R) turning the two rows of `from` best onto those of `to`.
-Eigen::Matrix3d two_point_rotation(const Eigen::RowVector3d& f0, const Eigen::RowVector3d& f1,
-                                   const Eigen::RowVector3d& t0, const Eigen::RowVector3d& t1) {
-  const Eigen::Matrix3d covariance = f0.transpose() * t0 + f1.transpose() * t1;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * flip * svd.matrixV().transpose();
-}
-
-}  // namespace
 
 std::vector<TipAssignment> tip_assignments(const MatrixX3d& tips_a, const MatrixX3d& tips_b, double max_angle,
                                            std::size_t max_count) {
@@ -34,7 +19,10 @@ std::vector<TipAssignment> tip_assignments(const MatrixX3d& tips_a, const Matrix
       for (Index k = 0; k < l; ++k)
         for (Index h = 0; h < l; ++h) {
           if (k == h) continue;
-          const Eigen::Matrix3d R = two_point_rotation(tips_b.row(k), tips_b.row(h), tips_a.row(i), tips_a.row(j));
+          MatrixX3d from(2, 3), to(2, 3);
+          from << tips_b.row(k), tips_b.row(h);
+          to << tips_a.row(i), tips_a.row(j);
+          const Eigen::Matrix3d R = best_rotation(from, to);
           for (Index b = 0; b < l; ++b) {
             const Eigen::RowVector3d turned = tips_b.row(b) * R;
             for (Index a = 0; a < m; ++a) angle(b, a) = std::acos(std::clamp(turned.dot(tips_a.row(a)), -1.0, 1.0));

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "morph/align_sphere_map.h"
+#include "morph/flow_sphere_map.h"
 #include "morph/map_distortion.h"
 #include "param/spherical/map_through_proxy.h"
 #include "morph/morph.h"
@@ -230,6 +231,30 @@ void def_map_distortion(py::module_& m) {
 truth: every vertex of B read on A through the maps, every face of B compared
 with its image (both surfaces scaled to one area): (ln s1)^2 + (ln s2)^2 per
 face, capped at `cap`, turned-over images at the cap; the area-weighted mean.)doc");
+  py::class_<morph::SphereFlowResult>(m, "SphereFlow", "Result of flow_sphere_map().")
+      .def_property_readonly("positions", [](const morph::SphereFlowResult& r) { return to_numpy(r.positions); })
+      .def_readonly("reached", &morph::SphereFlowResult::reached, "share of the way travelled (1: all)")
+      .def_readonly("steps", &morph::SphereFlowResult::steps)
+      .def_readonly("halved", &morph::SphereFlowResult::halved)
+      .def_readonly("repairs", &morph::SphereFlowResult::repairs)
+      .def_readonly("blocking", &morph::SphereFlowResult::blocking,
+                    "when stalled: the points nearest the faces the smallest step would fold");
+  m.def(
+      "flow_sphere_map",
+      [](const py::object& F, const py::object& X, const py::object& from, const py::object& to,
+         const py::object& pinned_vertices) {
+        const MatrixX3i f = to_faces(F, "F");
+        const MatrixX3d x = to_vertices(X, "X"), a = to_vertices(from, "from"), b = to_vertices(to, "to");
+        std::vector<std::pair<Index, Index>> riders;
+        const std::vector<Index> pinned = to_indices(pinned_vertices, "pinned_vertices");
+        for (std::size_t k = 0; k < pinned.size(); ++k) riders.emplace_back(pinned[k], Index(k));
+        py::gil_scoped_release release;
+        return morph::flow_sphere_map(f, x, a, b, riders);
+      },
+      py::arg("F"), py::arg("X"), py::arg("from_points"), py::arg("to_points"), py::arg("pinned_vertices"),
+      R"doc(A fold-free sphere map X carried by the smooth flow taking from_points to
+to_points, in checked steps; pinned_vertices[k] rides on point k (the first
+len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
   m.def(
       "warp_sphere_points",
       [](const py::object& points, const py::object& from, const py::object& to, int steps) {
@@ -348,6 +373,18 @@ void def_correspondence(py::module_& m) {
                              "index of the candidate morph() would use")
       .def_property_readonly("pairs", [](const MorphCorrespondence& r) { return pairs_to_numpy(r.correspondence.pairs); },
                              "(k, 2) the chosen candidate's pairs on the models (vertex of A, of B), pins not included")
+      .def_property_readonly("proxy_a", [](const MorphCorrespondence& r) {
+        return py::make_tuple(to_numpy(r.correspondence.proxy_a), to_numpy(r.correspondence.proxy_faces_a));
+      }, "(V, F) of A's proxy, in A's correspondence frame (outward, centred, unit area)")
+      .def_property_readonly("proxy_b", [](const MorphCorrespondence& r) {
+        return py::make_tuple(to_numpy(r.correspondence.proxy_b), to_numpy(r.correspondence.proxy_faces_b));
+      }, "(V, F) of B's proxy, in B's correspondence frame")
+      .def_property_readonly("map_a", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.map_a); },
+                             "balanced sphere map of A's proxy")
+      .def_property_readonly("map_b", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.map_b); },
+                             "balanced sphere map of B's proxy")
+      .def_property_readonly("warped_b", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.warped_b); },
+                             "the chosen candidate's map of B's proxy, on A's proxy map")
       .def_readonly("inside_out_a", &MorphCorrespondence::inside_out_a)
       .def_readonly("inside_out_b", &MorphCorrespondence::inside_out_b)
       .def_property_readonly("timings", [](const MorphCorrespondence& r) { return r.correspondence.timings; });

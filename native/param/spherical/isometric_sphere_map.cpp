@@ -46,7 +46,7 @@ Vec3 corner(const MatrixX3d& X, const MatrixX3i& F, Index f, int k) { return X.r
 
 }  // namespace
 
-IsometricSphereRest isometric_sphere_rest(const MatrixX3d& V, const MatrixX3i& F) {
+IsometricSphereRest isometric_sphere_rest(const MatrixX3d& V, const MatrixX3i& F, double area_scale) {
   IsometricSphereRest rest;
   rest.cotangents.resize(F.rows(), 3);
   rest.area.resize(F.rows());
@@ -62,7 +62,7 @@ IsometricSphereRest isometric_sphere_rest(const MatrixX3d& V, const MatrixX3i& F
   const double total = rest.area.sum();
   PM_REQUIRE(total > 0 && std::isfinite(total) && (rest.area.array() > 0).all(), InvalidInputError,
              "isometric sphere map: the mesh has degenerate faces");
-  rest.area *= 4 * M_PI / total;
+  rest.area *= area_scale > 0 ? area_scale : 4 * M_PI / total;
   return rest;
 }
 
@@ -82,36 +82,48 @@ double isometric_sphere_energy(const IsometricSphereRest& rest, const MatrixX3i&
   return energy;
 }
 
+VectorXd isometric_face_ratios(const IsometricSphereRest& rest, const MatrixX3i& F, const MatrixX3d& X) {
+  VectorXd ratio(F.rows());
+#pragma omp parallel for schedule(static)
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Vec3 x[3] = {corner(X, F, f, 0), corner(X, F, f, 1), corner(X, F, f, 2)};
+    ratio[f] = face_energy(rest.cotangents.row(f).data(), rest.area[f], x, nullptr) / (4 * rest.area[f]);
+  }
+  return ratio;
+}
+
 IsometricSphereResult isometric_sphere_map(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& start,
                                            const IsometricSphereOptions& o, ProgressWindow progress) {
   PM_REQUIRE(start.rows() == V.rows() && start.allFinite(), InvalidInputError,
              "start must be a finite (", V.rows(), ", 3) array");
   PM_REQUIRE(o.max_steps >= 0 && std::isfinite(o.tol) && o.tol > 0, InvalidInputError,
              "max_steps >= 0 and tol > 0");
-  const IsometricSphereRest rest = isometric_sphere_rest(V, F);
+  PM_REQUIRE(std::isfinite(o.area_scale) && o.area_scale >= 0, InvalidInputError, "area_scale must be >= 0");
+  const IsometricSphereRest rest = isometric_sphere_rest(V, F, o.area_scale);
   const Index faces = Index(F.rows()), vertices = Index(V.rows());
   IsometricSphereResult result;
   result.positions = start.rowwise().normalized();
   MatrixX3d& X = result.positions;
   const double minimum = 4 * rest.area.sum();  // every face at E_f = 4 A_f: an isometry
+  // Faces in parallel, summed in order: the same energy, so the same steps
+  // and the same map, on every run.
+  VectorXd face_energies(faces);
   auto energy_of = [&](const MatrixX3d& Y) {
-    double total = 0;
-    bool feasible = true;
-#pragma omp parallel for reduction(+ : total) reduction(&& : feasible) schedule(static)
+#pragma omp parallel for schedule(static)
     for (Index f = 0; f < faces; ++f) {
       const Vec3 x[3] = {corner(Y, F, f, 0), corner(Y, F, f, 1), corner(Y, F, f, 2)};
-      const double e = face_energy(rest.cotangents.row(f).data(), rest.area[f], x, nullptr);
-      feasible = feasible && std::isfinite(e);
-      total += std::isfinite(e) ? e : 0.0;
+      face_energies[f] = face_energy(rest.cotangents.row(f).data(), rest.area[f], x, nullptr);
     }
-    return feasible ? total : kInfinity;
+    double total = 0;
+    for (Index f = 0; f < faces; ++f) total += face_energies[f];
+    return std::isfinite(total) ? total : kInfinity;
   };
   double energy = energy_of(X);
   PM_REQUIRE(std::isfinite(energy), InvalidInputError,
              "isometric sphere map: the start has faces turned over or degenerate");
   result.start_energy = energy / minimum;
 
-  TangentNewton newton(F, vertices);
+  TangentNewton newton(F, vertices, o.fixed);
   std::vector<Mat6> face_hessian(static_cast<std::size_t>(faces));
   std::vector<Vec6> face_gradient(static_cast<std::size_t>(faces));
   MatrixX3d trial(vertices, 3);

@@ -16,6 +16,8 @@
 // similar stretch for the same reason).
 #pragma once
 
+#include <vector>
+
 #include "common/progress.h"
 #include "mesh/types.h"
 
@@ -28,6 +30,11 @@ struct IsometricSphereOptions {
   int max_steps = 40;
   /// Stop when the squared Newton decrement falls under tol x the energy.
   double tol = 1e-5;
+  /// Vertices that do not move (the rim of a region relaxed alone).
+  std::vector<Index> fixed;
+  /// Sphere area per unit of model area; 0: 4 pi over the mesh's own area
+  /// (a region relaxed alone gives its whole model's).
+  double area_scale = 0;
 };
 
 struct IsometricSphereResult {
@@ -49,9 +56,13 @@ struct IsometricSphereRest {
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> cotangents;  ///< per face and corner
   VectorXd area;  ///< per face, its 3D area scaled so the areas sum to 4 pi
 };
-IsometricSphereRest isometric_sphere_rest(const MatrixX3d& V, const MatrixX3i& F);
+IsometricSphereRest isometric_sphere_rest(const MatrixX3d& V, const MatrixX3i& F, double area_scale = 0);
 double isometric_sphere_energy(const IsometricSphereRest& rest, const MatrixX3i& F, const MatrixX3d& X,
                                MatrixX3d* gradient = nullptr);
+
+/// Per face, its isometric energy over its minimum (1 for an isometric
+/// face, +inf for one turned over or degenerate).
+VectorXd isometric_face_ratios(const IsometricSphereRest& rest, const MatrixX3i& F, const MatrixX3d& X);
 
 /// V, F: a closed genus-0 mesh without degenerate faces (not checked here);
 /// start: #V by 3 unit vectors, every face's triple product > 0 (checked:

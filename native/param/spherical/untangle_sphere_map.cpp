@@ -11,6 +11,7 @@
 #include "param/planar/isometric_energy.h"
 #include "param/planar/untangle.h"
 #include "param/planar/untangle_continuation.h"
+#include "param/spherical/smooth_sphere_map.h"
 
 namespace paramorph::spherical {
 
@@ -123,6 +124,25 @@ bool untangle_patch(const MatrixX3d& V, const MatrixX3i& F, MatrixX3d& X, const 
   return true;
 }
 
+/// The free vertices of a patch (its faces' corners not on its boundary).
+std::vector<Index> inner_vertices(const TriMesh& mesh, const std::vector<Index>& faces) {
+  std::vector<char> in(std::size_t(mesh.num_faces()), 0);
+  for (const Index f : faces) in[std::size_t(f)] = 1;
+  std::vector<Index> out;
+  std::vector<char> seen(std::size_t(mesh.num_vertices()), 0);
+  const Csr& corners = mesh.vertex_corners();
+  for (const Index f : faces)
+    for (int k = 0; k < 3; ++k) {
+      const Index v = mesh.F()(f, k);
+      if (seen[std::size_t(v)]) continue;
+      seen[std::size_t(v)] = 1;
+      bool inner = true;
+      for (Index c = corners.begin(v); c < corners.end(v) && inner; ++c) inner = in[std::size_t(corners.items[c] / 3)];
+      if (inner) out.push_back(v);
+    }
+  return out;
+}
+
 }  // namespace
 
 SphereUntangleResult untangle_sphere_map(const MatrixX3d& V, const MatrixX3i& F, MatrixX3d& X,
@@ -161,7 +181,11 @@ SphereUntangleResult untangle_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     bool done = false;
     for (int rings = o.first_rings; rings <= o.max_rings && !done; ++rings) {
       MatrixX3d trial = X;
-      if (untangle_patch(V, F, trial, fixed, grow(mesh, cluster, rings), o.max_patch_angle)) {
+      const std::vector<Index> patch = grow(mesh, cluster, rings);
+      if (untangle_patch(V, F, trial, fixed, patch, o.max_patch_angle)) {
+        // Untangling leaves slivers (a later flow turns them over at the
+        // slightest shear): smooth the patch's free vertices.
+        smooth_sphere_map(mesh, trial, inner_vertices(mesh, patch), fixed, 3);
         X.swap(trial);
         done = true;
         ++result.patches;

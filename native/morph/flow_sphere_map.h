@@ -1,0 +1,53 @@
+// A fold-free sphere map carried by the smooth flow that takes some points
+// to others (morph/sphere_warp), step by step, every step checked: where a
+// step would turn a face over, the map round it is smoothed (fold-free) and
+// the step tried again, then halved. Pinned vertices ride on their points
+// exactly, so they end exactly where their points go.
+//
+// The morph's map of B is its own balanced map carried this way by the
+// chosen correspondence (issue 16): pins, pairs and a registration's samples
+// are the points. A flow of a smooth field folds no fine enough mesh, so
+// where a proxy's map of the same flow is fold-free, the model's is too
+// (reading the proxy's warped map at the model's vertices instead folded
+// hundreds of faces round thin parts, and with pins fixed some could not be
+// untangled).
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "common/progress.h"
+#include "mesh/types.h"
+
+namespace paramorph::morph {
+
+struct SphereFlowOptions {
+  double first_step = 1.0 / 16;  ///< share of the way of the first step
+  double smallest_step = 1.0 / 4096;  ///< below this the flow stalls
+  /// Where a step would turn faces over, the map round them is smoothed
+  /// (smooth_sphere_map) and the step tried again, this many times before
+  /// it is halved.
+  int repairs_per_step = 6;
+};
+
+struct SphereFlowResult {
+  MatrixX3d positions;   ///< fold-free; pinned rows exactly on their points
+  double reached = 0;    ///< share of the way travelled (1: all the way)
+  int steps = 0;         ///< accepted steps
+  int halved = 0;        ///< steps halved because a face would fold
+  int repairs = 0;       ///< smoothings round faces a step would fold
+  /// When stalled: the points nearest the faces the smallest step would
+  /// fold, nearest first (at most 4).
+  std::vector<Index> blocking;
+};
+
+/// F: faces; X: #V by 3 unit vectors, fold-free (triple products > -1e-13);
+/// from, to: #k by 3 unit vectors (distinct rows of `from`); pinned: (vertex,
+/// row of from/to) pairs, the vertex put on its point at every step
+/// (exactly on `to` at the end). Raises InvalidInputError for shapes and
+/// ranges, Cancelled.
+SphereFlowResult flow_sphere_map(const MatrixX3i& F, const MatrixX3d& X, const MatrixX3d& from, const MatrixX3d& to,
+                                 const std::vector<std::pair<Index, Index>>& pinned,
+                                 const SphereFlowOptions& options = {}, ProgressWindow progress = {});
+
+}  // namespace paramorph::morph
