@@ -246,7 +246,7 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
       pa.row(Index(k)) = VA.row((*given)[k][0]);
       pb.row(Index(k)) = VB.row((*given)[k][1]);
     }
-    const ClosestPoints ca = ClosestPointTree(A.V, A.F).query(pa), cb = ClosestPointTree(B.V, B.F).query(pb);
+    const ClosestPoints ca = A.tree->query(pa), cb = B.tree->query(pb);
     for (std::size_t k = 0; k < given->size(); ++k) {
       Index ka, kb;
       ca.bary.row(Index(k)).maxCoeff(&ka);
@@ -281,7 +281,6 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
       const double signs[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
       for (int s = 0; s < 4; ++s)
         starts.push_back({turns[s], axes_a * Eigen::Vector3d(signs[s][0], signs[s][1], signs[s][2]).asDiagonal() * axes_b.transpose()});
-      const ClosestPointTree tree_a(A.V, A.F);
       for (const Start& start : starts) {
         const Registration registration = register_surfaces(
             A.V, A.F, B.V, B.F,
@@ -292,7 +291,7 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
         // proxy paired with A's vertex at their registered closest points,
         // where that is near (a closest-point map read vertex by vertex
         // zigzags at the proxy's resolution and would be scored for it).
-        const ClosestPoints on = tree_a.query(moved);
+        const ClosestPoints on = A.tree->query(moved);
         Raw r{"registration", start.detail, {}, Eigen::Matrix3d::Identity(), {}};
         std::set<Index> sampled_a;
         for (const Index v : farthest_points(B.V, o.registration_samples)) {
@@ -420,7 +419,10 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
       const MatrixX3d warped = candidate_map(B, points, r.rotation);
       candidate.distortion = map_distortion(A.V, A.F, A.map, B.V, B.F, warped).mean;
       candidate.curvature_mismatch = curvature_mismatch(A, B, warped);
-      candidate.score = candidate.distortion + o.curvature_weight * candidate.curvature_mismatch;
+      const Eigen::Matrix3d turn = best_rotation(B.map, warped, B.area);
+      candidate.turn = std::acos(std::clamp(0.5 * (turn.trace() - 1), -1.0, 1.0));
+      candidate.score = (candidate.distortion + o.curvature_weight * candidate.curvature_mismatch) *
+                        (1 + o.placement_weight * candidate.turn / M_PI);
       if (!std::isfinite(candidate.score)) candidate.rejected = "its correspondence could not be measured";
     }
     out.candidates.push_back(candidate);

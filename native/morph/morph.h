@@ -11,11 +11,13 @@
 //      scored by the distortion of the correspondence they make, and the
 //      best is used; the user's pins hold in every candidate;
 //   3. A's sphere map is its proxy's map read at every vertex (untangled
-//      where the model turns against the proxy's faces); B's targets are the
-//      winner's map of B's proxy read the same way, and B's map is those
-//      targets made fold-free with every pin and pair exactly on its
-//      partner's point of A's map (pinned_sphere_map): the pinned vertex of A
-//      lands exactly on its partner of B at t = 1;
+//      where the model turns against the proxy's faces, poor regions
+//      relaxed); B's map is its own map read the same way, carried by the
+//      winner's flow (flow_sphere_map) from where its pinned vertices, pairs
+//      and samples are to where their partners are on A's map. The pinned
+//      vertices ride on their points: the pinned vertex of A lands exactly on
+//      its partner of B at t = 1. Where B's map cannot meet the winner
+//      without folding, the next best candidate is tried;
 //   4. the two maps are overlaid into one merged topology (overlay, 4.4);
 //   5. every merged vertex's position on A and on B from its barycentric
 //      coordinates: the source and target of the morph (4.4).

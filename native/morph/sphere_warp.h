@@ -12,8 +12,8 @@
 // hind hoof by 13% of the diagonal; r kept every landmark within 0.8%.
 //
 // A flow of a smooth field is a diffeomorphism, so a fine enough mesh carried
-// by it does not fold; morph/pinned_sphere_map checks and steps it so that
-// no face does.
+// by it does not fold; morph/flow_sphere_map checks and steps it so that no
+// face does.
 #pragma once
 
 #include "mesh/types.h"

@@ -1,6 +1,7 @@
 // Morphing (native/morph/): optimize_sphere_map (morph/optimize_sphere_map.h),
 // align_sphere_map (morph/align_sphere_map.h), morph (morph/morph.h),
-// pinned_sphere_map (morph/pinned_sphere_map.h), morph_correspondence (morph/morph.h).
+// morph_correspondence (morph/morph.h), map_distortion, flow_sphere_map and the
+// sphere-map tools the morph is built from.
 
 #include <pybind11/stl.h>
 
@@ -11,7 +12,6 @@
 #include "morph/morph.h"
 #include "morph/optimization_start.h"
 #include "morph/optimize_sphere_map.h"
-#include "morph/pinned_sphere_map.h"
 #include "morph/sphere_warp.h"
 #include "param/spherical/untangle_sphere_map.h"
 #include "python/arrays.h"
@@ -151,61 +151,6 @@ vertex to its pair's target with `feature_weight` x its pair weight.
 vertices: (k,) ints; targets: (k, 3) unit vectors; weights: (k,) > 0 or None.
 Returns AlignedSphereMap (positions, rotation, mean_error_rotated, mean_error,
 max_error, solve).)doc");
-}
-
-void def_pinned_sphere_map(py::module_& m) {
-  using morph::PinnedSphereResult;
-  py::class_<PinnedSphereResult>(m, "PinnedSphereMap", "Result of pinned_sphere_map().")
-      .def_property_readonly("positions", [](const PinnedSphereResult& r) { return to_numpy(r.positions); },
-                             "(n, 3) float64 unit vectors, fold-free; the pinned rows are the pins exactly")
-      .def_property_readonly("target", [](const PinnedSphereResult& r) { return to_numpy(r.target); },
-                             "(n, 3) the targets turned and warped onto the pins")
-      .def_property_readonly("rotation", [](const PinnedSphereResult& r) { return to_numpy(r.rotation); },
-                             "(3, 3) the targets' turn (row vectors: t @ R)")
-      .def_readonly("start_from_target", &PinnedSphereResult::start_from_target)
-      .def_property_readonly("untangle", [](const PinnedSphereResult& r) {
-        return py::make_tuple(r.untangle.folded_before, r.untangle.folded, r.untangle.patches, r.untangle.largest_rings);
-      }, "(folded before, folded after, patches, largest rings) of the targets' untangling")
-      .def_readonly("flow_steps", &PinnedSphereResult::flow_steps)
-      .def_readonly("flow_rejected", &PinnedSphereResult::flow_rejected)
-      .def_readonly("flow_relaxations", &PinnedSphereResult::flow_relaxations)
-      .def_readonly("barrier_steps", &PinnedSphereResult::barrier_steps)
-      .def_readonly("epsilon", &PinnedSphereResult::epsilon)
-      .def_readonly("min_triple", &PinnedSphereResult::min_triple)
-      .def_readonly("objective", &PinnedSphereResult::objective)
-      .def_readonly("seconds", &PinnedSphereResult::seconds);
-  m.def(
-      "pinned_sphere_map",
-      [](const py::object& V, const py::object& F, const py::object& sphere, const py::object& vertices,
-         const py::object& pins, double epsilon, double min_epsilon, const py::object& target,
-         const py::object& weights, double mu_ratio, int max_steps, py::object progress) {
-        morph::PinnedSphereOptions o;
-        o.epsilon = epsilon;
-        o.min_epsilon = min_epsilon;
-        o.mu_ratio = mu_ratio;
-        o.max_steps = max_steps;
-        if (!target.is_none()) o.target = to_vertices(target, "target");
-        if (!weights.is_none()) o.weights = to_vector(weights, "weights");
-        const MatrixX3d v = to_vertices(V);
-        const MatrixX3i f = to_faces(F);
-        const MatrixX3d s = to_vertices(sphere, "sphere");
-        const std::vector<Index> pinned = to_indices(vertices, "vertices");
-        const MatrixX3d p = to_vertices(pins, "pins");
-        PythonProgress bridge(std::move(progress));
-        return run_without_gil(bridge, [&] { return morph::pinned_sphere_map(v, f, s, pinned, p, o, bridge.get()); });
-      },
-      py::arg("V"), py::arg("F"), py::arg("sphere"), py::arg("vertices"), py::arg("pins"), py::kw_only(),
-      py::arg("epsilon") = 0.05, py::arg("min_epsilon") = 0.0, py::arg("target") = py::none(),
-      py::arg("weights") = py::none(), py::arg("mu_ratio") = 1e-3, py::arg("max_steps") = 120, py::arg("progress") = py::none(),
-      R"doc(Fold-free sphere map of B whose pinned vertices lie exactly on `pins`
-(hard constraints): the targets (B's radial projection, or `target`) are
-turned and warped onto the pins, the start map `sphere` is flowed onto them
-in fold-free steps, then a log-barrier path with the pins fixed pulls every
-free vertex towards its target.
-
-vertices: (k,) distinct ints; pins: (k, 3) distinct unit vectors. Raises
-ConstraintError naming the pins when they cannot all hold (a vertex pinned
-twice, two pins on one point, mirrored order).)doc");
 }
 
 void def_map_distortion(py::module_& m) {
@@ -356,11 +301,12 @@ void def_correspondence(py::module_& m) {
       .def_property_readonly("proxy_pairs", [](const CorrespondenceCandidate& c) { return pairs_to_numpy(c.proxy_pairs); },
                              "(k, 2) its automatic pairs on the proxies")
       .def_readonly("score", &CorrespondenceCandidate::score,
-                    "distortion + curvature_weight x curvature_mismatch (lower is better; inf when rejected)")
+                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi): lower is better; inf when rejected")
       .def_readonly("distortion", &CorrespondenceCandidate::distortion,
                     "mean isometric distortion of its correspondence (0 for an isometry)")
       .def_readonly("curvature_mismatch", &CorrespondenceCandidate::curvature_mismatch,
                     "mean difference of smoothed Gaussian curvature at corresponding points, over its spread")
+      .def_readonly("turn", &CorrespondenceCandidate::turn, "radians it turns B from where it is placed")
       .def_readonly("rejected", &CorrespondenceCandidate::rejected, "why it was not scored ('' when scored)")
       .def("__repr__", [](const CorrespondenceCandidate& c) {
         return "<CorrespondenceCandidate " + c.kind + " (" + c.detail + ") score=" + std::to_string(c.score) +
@@ -500,7 +446,6 @@ models. Same checks and errors as morph().)doc");
 void bind_morph(py::module_& m) {
   def_optimize_sphere_map(m);
   def_align_sphere_map(m);
-  def_pinned_sphere_map(m);
   def_map_distortion(m);
   def_correspondence(m);
   def_morph(m);

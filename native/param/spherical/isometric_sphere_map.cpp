@@ -102,7 +102,11 @@ IsometricSphereResult isometric_sphere_map(const MatrixX3d& V, const MatrixX3i& 
   const IsometricSphereRest rest = isometric_sphere_rest(V, F, o.area_scale);
   const Index faces = Index(F.rows()), vertices = Index(V.rows());
   IsometricSphereResult result;
-  result.positions = start.rowwise().normalized();
+  // Rows already unit (to rounding) are kept bit for bit: a fixed vertex
+  // (a pin) must stay exactly where it was given.
+  result.positions = start;
+  for (Index v = 0; v < start.rows(); ++v)
+    if (std::abs(start.row(v).norm() - 1) > 1e-12) result.positions.row(v).normalize();
   MatrixX3d& X = result.positions;
   const double minimum = 4 * rest.area.sum();  // every face at E_f = 4 A_f: an isometry
   // Faces in parallel, summed in order: the same energy, so the same steps

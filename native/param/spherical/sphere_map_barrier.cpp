@@ -78,9 +78,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
     bounds[f] = det > 2 * kRoundoff ? std::min(o.epsilon, 0.5 * det) : -kRoundoff;
   }
 
-  TangentNewton newton(F, vertices, o.fixed);
-  std::vector<char> fixed(std::size_t(vertices), 0);
-  for (Index v = 0; v < vertices; ++v) fixed[std::size_t(v)] = newton.is_fixed(v);
+  TangentNewton newton(F, vertices);
   VectorXd step(2 * vertices);
   MatrixX3d trial(vertices, 3), longer_trial(vertices, 3);
 
@@ -188,21 +186,12 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   // their triple product. Measured on tentacle_sphere(4) (18.7k faces, 12.7k
   // of them squeezed): open in 133 steps, optimized in 34 s, where Ipopt
   // from the squeezed start had not converged after 400 s.
-  // A face whose three corners are fixed cannot change: it keeps its own
-  // bound (half its triple product where that is under epsilon) throughout.
-  std::vector<char> rigid(faces, 0);
-  for (Index f = 0; f < faces; ++f) rigid[f] = fixed[F(f, 0)] && fixed[F(f, 1)] && fixed[F(f, 2)];
   auto all_open = [&] {
     for (Index f = 0; f < faces; ++f)
-      if (!rigid[f] && !(triple(X, f) > 2 * o.epsilon)) return false;
+      if (!(triple(X, f) > 2 * o.epsilon)) return false;
     return true;
   };
-  PM_REQUIRE(o.face_weights.size() == 0 || (o.face_weights.size() == faces && (o.face_weights.array() > 0).all() &&
-                                               o.face_weights.allFinite()),
-             InvalidInputError, "sphere_map_barrier: face_weights must be ", faces, " positive numbers");
-  const VectorXd face_weight = o.face_weights.size() ? o.face_weights : VectorXd::Ones(faces);
-  for (Index f = 0; f < faces; ++f)
-    weight[f] = (triple(X, f) > 2 * o.epsilon ? o.mu_start : 10 * o.mu_start) * face_weight[f];
+  for (Index f = 0; f < faces; ++f) weight[f] = triple(X, f) > 2 * o.epsilon ? o.mu_start : 10 * o.mu_start;
   while (!all_open()) {
     if (result.steps >= o.max_steps) return result;  // not open: result.rounds == 0
     ++result.opening_rounds;
@@ -214,8 +203,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
       weight[f] *= 10;
     }
   }
-  for (Index f = 0; f < faces; ++f)
-    if (!rigid[f]) bounds[f] = o.epsilon;
+  bounds.setConstant(o.epsilon);
 
   // The path: mu_start * mu_factor^k down to mu_end, the last one mu_end
   // itself. Counted up front: comparing a product of rounded factors with
@@ -226,7 +214,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   for (int round = 0; round < rounds && result.steps < o.max_steps; ++round) {
     if (round == rounds - 1) mu = o.mu_end;
     result.rounds = round + 1;
-    weight = mu * face_weight;
+    weight.setConstant(mu);
     result.centred =
         centre(mu, [&](int k) { return (round + std::min(1.0, k / 10.0)) / rounds; }, [] { return false; });
     result.mu = mu;

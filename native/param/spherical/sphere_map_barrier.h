@@ -18,8 +18,6 @@
 // model lets small faces fold, then ~80 more with inertia corrections.
 #pragma once
 
-#include <vector>
-
 #include "common/progress.h"
 #include "mesh/types.h"
 
@@ -36,13 +34,6 @@ struct SphereBarrierOptions {
   /// tentacle_sphere(3) spent 250 full steps of one round each lowering E by
   /// ~1e-5 of itself. The next round and Ipopt do not need an exact centre.
   int max_round_steps = 20;
-  /// Vertices that do not move (hard pins): left out of the Newton systems
-  /// and copied bit for bit into the result.
-  std::vector<Index> fixed;
-  /// Per-face factors of the barrier weight (#F, positive; all 1 when
-  /// empty): a face whose target is small on the sphere gets a weaker
-  /// barrier, so it may become as small as its target (pinned_sphere_map).
-  VectorXd face_weights;
 };
 
 struct SphereBarrierResult {
