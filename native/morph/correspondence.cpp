@@ -176,7 +176,9 @@ struct Raw {
 MatrixX3d candidate_map(const Side& B, const PairPoints& points, const Eigen::Matrix3d& fallback) {
   const MatrixX3d on_a = points.rows(points.a), on_b = points.rows(points.b);
   const Eigen::Matrix3d R = on_a.rows() ? best_rotation(on_b, on_a) : fallback;
-  const SphereFlowResult flowed = flow_sphere_map(B.F, B.map * R, on_b * R, on_a, {});
+  SphereFlowOptions flow;
+  flow.model = &B.V;
+  const SphereFlowResult flowed = flow_sphere_map(B.F, B.map * R, on_b * R, on_a, {}, flow);
   if (flowed.reached >= 1) return flowed.positions;
   return warp_points(B.map * R, on_b * R, on_a, 16);
 }

@@ -8,6 +8,7 @@
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
 #include "morph/sphere_warp.h"
+#include "param/spherical/relax_sphere_map.h"
 #include "param/spherical/smooth_sphere_map.h"
 
 namespace paramorph::morph {
@@ -88,6 +89,15 @@ SphereFlowResult flow_sphere_map(const MatrixX3i& F, const MatrixX3d& X, const M
     ++result.halved;
     h *= 0.5;
     if (h >= o.smallest_step) continue;
+    if (o.model && result.relaxations < o.relaxations) {
+      ++result.relaxations;
+      spherical::RelaxPoorOptions relax;
+      relax.threshold = 10;  // looser than for a fresh map: the flow is what squeezed them
+      spherical::relax_poor_regions(*o.model, F, Y, fixed, relax);
+      h = o.first_step;
+      repairs_here = 0;
+      continue;
+    }
     // Stalled: the points nearest the folding faces.
     std::vector<std::pair<double, Index>> near;
     for (Index f = 0; f < F.rows(); ++f) {

@@ -28,6 +28,12 @@ struct SphereFlowOptions {
   /// (smooth_sphere_map) and the step tried again, this many times before
   /// it is halved.
   int repairs_per_step = 6;
+  /// The model (#V by 3) when known: where the flow stalls, the map's poor
+  /// regions (faces far from isometric, as the squeezed ones are) are
+  /// relaxed by isometric Newton steps with the pinned vertices fixed
+  /// (relax_poor_regions), and the flow goes on, at most this many times.
+  const MatrixX3d* model = nullptr;
+  int relaxations = 3;
 };
 
 struct SphereFlowResult {
@@ -36,6 +42,7 @@ struct SphereFlowResult {
   int steps = 0;         ///< accepted steps
   int halved = 0;        ///< steps halved because a face would fold
   int repairs = 0;       ///< smoothings round faces a step would fold
+  int relaxations = 0;   ///< isometric relaxations where the flow stalled
   /// When stalled: the points nearest the faces the smallest step would
   /// fold, nearest first (at most 4).
   std::vector<Index> blocking;

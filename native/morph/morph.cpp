@@ -6,6 +6,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <map>
+#include <optional>
 #include <utility>
 
 #include "common/best_rotation.h"
@@ -129,27 +130,48 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     return read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a, "A's map");
   });
   if (progress) progress->report(0.75, "sphere map of B");
-  const MatrixX3d own_b = for_mesh("B", [&] {
-    return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b, "B's map");
-  });
+  std::optional<MatrixX3d> own_b;  // B's own map, read only if a short flow stalls
   std::string first_failure;
   for (const Realization& real : c.ranked) {
     std::vector<std::array<Index, 2>> held = p.pins;
     held.insert(held.end(), real.pairs.begin(), real.pairs.end());
-    const Index count = Index(held.size()), shaped = real.shape_a.rows();
-    MatrixX3d from(count + shaped, 3), to(count + shaped, 3);
+    const Index count = Index(held.size());
     std::vector<std::pair<Index, Index>> riders;
+    MatrixX3d to(count, 3);
     for (Index k = 0; k < count; ++k) {
-      from.row(k) = own_b.row(held[std::size_t(k)][1]);
       to.row(k) = m.sphere_a.row(held[std::size_t(k)][0]);
       riders.emplace_back(held[std::size_t(k)][1], k);
     }
-    from.bottomRows(shaped) = real.shape_b;
-    to.bottomRows(shaped) = real.shape_a;
-    const Eigen::Matrix3d turn = from.rows() ? best_rotation(from, to) : real.rotation;
-    const SphereFlowResult carried = run_stage("carrying B's map", 0.78, 0.85, progress, [&](Progress* window) {
-      return flow_sphere_map(p.b.F, own_b * turn, from * turn, to, riders, {}, ProgressWindow(window));
+    // First the winner's own proxy map read at B's vertices (its pins and
+    // pairs already at their exact points, up to the proxy's interpolation),
+    // nudged the last stretch by a short flow; where that stalls, B's own
+    // map carried the whole way.
+    SphereFlowResult carried;
+    const MatrixX3d read = for_mesh("B", [&] {
+      return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, real.warped_b, "B's map");
     });
+    MatrixX3d from(count, 3);
+    for (Index k = 0; k < count; ++k) from.row(k) = read.row(held[std::size_t(k)][1]);
+    SphereFlowOptions flow;
+    flow.model = &p.b.V;
+    carried = run_stage("carrying B's map", 0.78, 0.82, progress, [&](Progress* window) {
+      return flow_sphere_map(p.b.F, read, from, to, riders, flow, ProgressWindow(window));
+    });
+    if (carried.reached < 1) {
+      if (!own_b) own_b = for_mesh("B", [&] {
+        return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b, "B's map");
+      });
+      const Index shaped = real.shape_a.rows();
+      MatrixX3d all_from(count + shaped, 3), all_to(count + shaped, 3);
+      for (Index k = 0; k < count; ++k) all_from.row(k) = own_b->row(held[std::size_t(k)][1]);
+      all_to.topRows(count) = to;
+      all_from.bottomRows(shaped) = real.shape_b;
+      all_to.bottomRows(shaped) = real.shape_a;
+      const Eigen::Matrix3d turn = all_from.rows() ? best_rotation(all_from, all_to) : real.rotation;
+      carried = run_stage("carrying B's map", 0.82, 0.85, progress, [&](Progress* window) {
+        return flow_sphere_map(p.b.F, *own_b * turn, all_from * turn, all_to, riders, flow, ProgressWindow(window));
+      });
+    }
     if (carried.reached < 1) {
       std::vector<Index> named;
       for (const Index j : carried.blocking)

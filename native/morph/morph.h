@@ -12,12 +12,12 @@
 //      best is used; the user's pins hold in every candidate;
 //   3. A's sphere map is its proxy's map read at every vertex (untangled
 //      where the model turns against the proxy's faces, poor regions
-//      relaxed); B's map is its own map read the same way, carried by the
-//      winner's flow (flow_sphere_map) from where its pinned vertices, pairs
-//      and samples are to where their partners are on A's map. The pinned
-//      vertices ride on their points: the pinned vertex of A lands exactly on
-//      its partner of B at t = 1. Where B's map cannot meet the winner
-//      without folding, the next best candidate is tried;
+//      relaxed); B's map is the winner's map of B's proxy read the same way,
+//      then carried by a short checked flow (flow_sphere_map) the last
+//      stretch onto the exact points: its pinned vertices ride on their
+//      points, so the pinned vertex of A lands exactly on its partner of B
+//      at t = 1. Where that flow stalls, B's own map is carried the whole
+//      way instead; where that stalls too, the next best candidate is tried;
 //   4. the two maps are overlaid into one merged topology (overlay, 4.4);
 //   5. every merged vertex's position on A and on B from its barycentric
 //      coordinates: the source and target of the morph (4.4).
