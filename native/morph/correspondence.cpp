@@ -415,7 +415,14 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
     const bool by_pairs = r.shape_pairs.empty() && r.kind != "none" && r.kind != "given";
     if (by_pairs && (key.empty() || !seen.insert(key).second)) continue;
     raw_of.push_back(c);
-    if (points_order(points).mirrored()) {
+    const PinOrder order = points_order(points);
+    // The user's own pairs in mirrored order are a contradiction to report,
+    // not a candidate to pass over.
+    PM_REQUIRE(!(r.kind == "given" && order.mirrored()), ConstraintError, "the given pairs are in mirrored order: ",
+               order.disagreeing, " of ", order.oriented,
+               " clearly oriented triples turn the other way on one mesh than on the other; are left and right "
+               "swapped, or is one file mirrored?");
+    if (order.mirrored()) {
       candidate.rejected = "its pairs are in mirrored order";
     } else {
       const MatrixX3d warped = candidate_map(B, points, r.rotation);

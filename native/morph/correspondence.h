@@ -68,8 +68,9 @@ struct CorrespondenceOptions {
   /// and muzzle are tips of one head.
   double tip_prominence = 0.04;
   double tip_angle = 0.8;       ///< radians: tips farther apart under a candidate rotation are not paired
-  /// Tips farther apart than this after a registration are not paired (units
-  /// of the correspondence frame: the model scaled to unit area).
+  /// Tips, and registration samples, farther from their closest partner
+  /// than this after a registration are not paired (units of the
+  /// correspondence frame: the model scaled to unit area).
   double registered_tip_distance = 0.15;
   /// Points of B's proxy whose registered closest points on A shape a
   /// registration candidate's map.
@@ -100,7 +101,8 @@ struct CorrespondenceCandidate {
   /// the pins are not listed.
   std::vector<std::array<Index, 2>> proxy_pairs;
   /// (distortion + curvature_weight x curvature_mismatch) x (1 +
-  /// placement_weight x turn / pi): lower is better; +inf when rejected.
+  /// placement_weight x turn / pi): lower is better; +inf when rejected
+  /// before scoring (one rejected later, by the morph, keeps its score).
   double score = std::numeric_limits<double>::infinity();
   /// Mean isometric distortion of the correspondence through the proxies'
   /// maps (map_distortion; 0 for an isometry).
@@ -112,7 +114,7 @@ struct CorrespondenceCandidate {
   double curvature_mismatch = 0;
   /// Radians B's map is turned from where the models are placed.
   double turn = 0;
-  std::string rejected;  ///< why it was not scored (empty when scored)
+  std::string rejected;  ///< why it could not be used: before scoring, or by the morph on the models (empty otherwise)
 };
 
 /// A ranked candidate carried to the models: what the morph needs to build

@@ -36,6 +36,10 @@ SphereFlowResult flow_sphere_map(const MatrixX3i& F, const MatrixX3d& X, const M
   for (const auto& [v, j] : pinned)
     PM_REQUIRE(v >= 0 && v < n && j >= 0 && j < k, InvalidInputError, "flow_sphere_map: pinned vertex ", v,
                " or point ", j, " out of range");
+  PM_REQUIRE(F.size() == 0 || (F.minCoeff() >= 0 && F.maxCoeff() < n), InvalidInputError,
+             "flow_sphere_map: faces index vertices outside X (", n, " rows)");
+  PM_REQUIRE(!o.model || o.model->rows() == n, InvalidInputError, "flow_sphere_map: the model has ",
+             o.model ? o.model->rows() : 0, " vertices, X ", n);
   SphereFlowResult result;
   result.positions = X;
   MatrixX3d& Y = result.positions;
@@ -57,6 +61,7 @@ SphereFlowResult flow_sphere_map(const MatrixX3i& F, const MatrixX3d& X, const M
   for (const auto& [v, j] : pinned) fixed[std::size_t(v)] = 1;
   int repairs_here = 0;
   while (t < 1) {
+    progress.report(t, "carrying the map");  // also between repairs and halvings: cancel is honoured there too
     h = std::min(h, 1 - t);
     const double next_t = t + h >= 1 - 1e-12 ? 1.0 : t + h;
     const MatrixX3d next = points_at(next_t);

@@ -4,13 +4,12 @@
 // the step tried again, then halved. Pinned vertices ride on their points
 // exactly, so they end exactly where their points go.
 //
-// The morph's map of B is its own balanced map carried this way by the
-// chosen correspondence (issue 16): pins, pairs and a registration's samples
-// are the points. A flow of a smooth field folds no fine enough mesh, so
-// where a proxy's map of the same flow is fold-free, the model's is too
-// (reading the proxy's warped map at the model's vertices instead folded
-// hundreds of faces round thin parts, and with pins fixed some could not be
-// untangled).
+// The morph (issue 16) uses it twice for B's map: first a short flow takes
+// the chosen candidate's map, read through B's proxy (untangled, relaxed),
+// the last stretch onto the exact pins and pairs; where that stalls, B's own
+// balanced map is carried the whole way, pins, pairs and a registration's
+// samples as the points. Given `model`, a stalled flow relaxes the poorly
+// shaped regions (relax_poor_regions) and goes on, a few times at most.
 #pragma once
 
 #include <utility>

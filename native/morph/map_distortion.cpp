@@ -34,6 +34,9 @@ Eigen::Matrix<double, 3, 2> plane_basis(const Eigen::Vector3d& n) {
 
 MatrixX3d carry_through_maps(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& sphere_a,
                              const MatrixX3d& sphere_b) {
+  PM_REQUIRE(sphere_a.rows() == VA.rows() && (FA.size() == 0 || (FA.minCoeff() >= 0 && FA.maxCoeff() < VA.rows())),
+             InvalidInputError, "carry_through_maps: one sphere point per vertex of A (", VA.rows(), "), got ",
+             sphere_a.rows(), "; faces within range");
   const SphereLocations at = locate_on_sphere_map(sphere_a, FA, sphere_b);
   MatrixX3d out(sphere_b.rows(), 3);
   for (Index v = 0; v < sphere_b.rows(); ++v) {

@@ -1,6 +1,7 @@
 #include "morph/morph.h"
 
 #include <chrono>
+#include <cmath>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -51,19 +52,20 @@ void check_pairs(const Pairs& pairs, Index na, Index nb, const char* what) {
   }
 }
 
-/// A model's map read off its proxy's map (the proxy itself when the model
-/// was small enough to be its own proxy), untangled.
-MatrixX3d read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
-                             const MatrixX3i& proxy_F, const MatrixX3d& proxy_map, const char* what) {
-  if (proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F) return proxy_map;
-  MatrixX3d X = spherical::map_through_proxy(V, proxy_V, proxy_F, proxy_map);
+/// A model's map read off its proxy's map (the proxy's map itself when the
+/// model was small enough to be its own proxy), untangled; nothing when
+/// folds remain (the caller decides whether that is an error or a reason to
+/// try another way).
+std::optional<MatrixX3d> read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
+                                            const MatrixX3i& proxy_F, const MatrixX3d& proxy_map) {
+  const bool own = proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F;
+  MatrixX3d X = own ? proxy_map : spherical::map_through_proxy(V, proxy_V, proxy_F, proxy_map);
   const spherical::SphereUntangleResult untangled =
       spherical::untangle_sphere_map(V, F, X, std::vector<char>(std::size_t(V.rows()), 0));
-  PM_REQUIRE(untangled.folded == 0, ComputeError, what, ": ", untangled.folded, " of ", untangled.folded_before,
-             " faces stay folded where the model turns against its proxy");
+  if (untangled.folded > 0) return std::nullopt;
   // Where the model turns against its proxy (thin tips) the map can keep
   // hair-thin faces spanning a sixth of the sphere: relax them.
-  spherical::relax_poor_regions(V, F, X, {});
+  if (!own || untangled.folded_before > 0) spherical::relax_poor_regions(V, F, X, {});
   return X;
 }
 
@@ -127,12 +129,21 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     clock = std::chrono::steady_clock::now();
   };
   m.sphere_a = for_mesh("A", [&] {
-    return read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a, "A's map");
+    const std::optional<MatrixX3d> read = read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a);
+    PM_REQUIRE(read, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
+    return *read;
   });
   if (progress) progress->report(0.75, "sphere map of B");
   std::optional<MatrixX3d> own_b;  // B's own map, read only if a short flow stalls
   std::string first_failure;
+  int attempt = 0;
   for (const Realization& real : c.ranked) {
+    // Attempt i reports in [a_i, a_i+1], a_i = 0.85 - 0.1 / 2^i: forward
+    // only, however many candidates are tried.
+    const double lo = 0.85 - 0.1 * std::pow(0.5, attempt), mid = 0.85 - 0.075 * std::pow(0.5, attempt),
+                 hi = 0.85 - 0.05 * std::pow(0.5, attempt);
+    ++attempt;
+    if (progress) progress->report(lo, "sphere map of B");
     std::vector<std::array<Index, 2>> held = p.pins;
     held.insert(held.end(), real.pairs.begin(), real.pairs.end());
     const Index count = Index(held.size());
@@ -144,22 +155,26 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     }
     // First the winner's own proxy map read at B's vertices (its pins and
     // pairs already at their exact points, up to the proxy's interpolation),
-    // nudged the last stretch by a short flow; where that stalls, B's own
-    // map carried the whole way.
+    // nudged the last stretch by a short flow; where that folds or stalls,
+    // B's own map carried the whole way.
     SphereFlowResult carried;
-    const MatrixX3d read = for_mesh("B", [&] {
-      return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, real.warped_b, "B's map");
-    });
-    MatrixX3d from(count, 3);
-    for (Index k = 0; k < count; ++k) from.row(k) = read.row(held[std::size_t(k)][1]);
     SphereFlowOptions flow;
     flow.model = &p.b.V;
-    carried = run_stage("carrying B's map", 0.78, 0.82, progress, [&](Progress* window) {
-      return flow_sphere_map(p.b.F, read, from, to, riders, flow, ProgressWindow(window));
+    const std::optional<MatrixX3d> read = for_mesh("B", [&] {
+      return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, real.warped_b);
     });
+    if (read) {
+      MatrixX3d from(count, 3);
+      for (Index k = 0; k < count; ++k) from.row(k) = read->row(held[std::size_t(k)][1]);
+      carried = run_stage("carrying B's map", lo, mid, progress, [&](Progress* window) {
+        return flow_sphere_map(p.b.F, *read, from, to, riders, flow, ProgressWindow(window));
+      });
+    }
     if (carried.reached < 1) {
       if (!own_b) own_b = for_mesh("B", [&] {
-        return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b, "B's map");
+        const std::optional<MatrixX3d> own = read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b);
+        PM_REQUIRE(own, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
+        return *own;
       });
       const Index shaped = real.shape_a.rows();
       MatrixX3d all_from(count + shaped, 3), all_to(count + shaped, 3);
@@ -168,7 +183,7 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
       all_from.bottomRows(shaped) = real.shape_b;
       all_to.bottomRows(shaped) = real.shape_a;
       const Eigen::Matrix3d turn = all_from.rows() ? best_rotation(all_from, all_to) : real.rotation;
-      carried = run_stage("carrying B's map", 0.82, 0.85, progress, [&](Progress* window) {
+      carried = run_stage("carrying B's map", mid, hi, progress, [&](Progress* window) {
         return flow_sphere_map(p.b.F, *own_b * turn, all_from * turn, all_to, riders, flow, ProgressWindow(window));
       });
     }

@@ -37,8 +37,8 @@
 namespace paramorph::morph {
 
 struct MorphOptions {
-  /// Automatic correspondence (step 2); off: only the pins (and the models'
-  /// placement) decide.
+  /// Automatic correspondence (step 2); off: only the pins, the given
+  /// `pairs` if any, and the models' placement decide.
   bool automatic = true;
   /// Pairs to use instead of the automatic candidates (e.g. edited in a
   /// preview): (vertex of A, vertex of B), hard like the pins.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -28,21 +29,32 @@ PinOrder pin_order(const MatrixX3d& on_b, const MatrixX3d& on_a) {
   const Index k = on_a.rows();
   PM_REQUIRE(on_b.rows() == k, InvalidInputError, "pin_order: ", on_b.rows(), " and ", k, " pins");
   std::map<Index, Index> count;
-  const Index stride = k <= 60 ? 1 : Index(k * k * k / (6 * 34220)) + 1;
-  Index counter = 0;
-  for (Index i = 0; i < k; ++i)
-    for (Index j = i + 1; j < k; ++j)
-      for (Index l = j + 1; l < k; ++l) {
-        if (counter++ % stride) continue;
-        const double a = shape_orientation(on_a.row(i), on_a.row(j), on_a.row(l));
-        const double b = shape_orientation(on_b.row(i), on_b.row(j), on_b.row(l));
-        if (std::abs(a) < 0.05 || std::abs(b) < 0.05) continue;
-        ++order.oriented;
-        if ((a > 0) != (b > 0)) {
-          ++order.disagreeing;
-          ++count[i], ++count[j], ++count[l];
-        }
-      }
+  auto judge = [&](Index i, Index j, Index l) {
+    const double a = shape_orientation(on_a.row(i), on_a.row(j), on_a.row(l));
+    const double b = shape_orientation(on_b.row(i), on_b.row(j), on_b.row(l));
+    if (std::abs(a) < 0.05 || std::abs(b) < 0.05) return;
+    ++order.oriented;
+    if ((a > 0) != (b > 0)) {
+      ++order.disagreeing;
+      ++count[i], ++count[j], ++count[l];
+    }
+  };
+  constexpr Index kAllUpTo = 60;     // 34,220 triples
+  constexpr int kSampled = 34220;    // beyond: as many triples, drawn with a fixed seed (the same verdict every run)
+  if (k <= kAllUpTo) {
+    for (Index i = 0; i < k; ++i)
+      for (Index j = i + 1; j < k; ++j)
+        for (Index l = j + 1; l < k; ++l) judge(i, j, l);
+  } else {
+    std::mt19937_64 draw(20161);
+    std::uniform_int_distribution<Index> any(0, k - 1);
+    for (int s = 0; s < kSampled; ++s) {
+      Index t[3] = {any(draw), any(draw), any(draw)};
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      std::sort(t, t + 3);  // the same sense as the enumeration (i < j < l)
+      judge(t[0], t[1], t[2]);
+    }
+  }
   std::vector<std::pair<Index, Index>> ranked;
   for (const auto& [pin, n] : count) ranked.emplace_back(-n, pin);
   std::sort(ranked.begin(), ranked.end());

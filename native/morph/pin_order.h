@@ -22,7 +22,7 @@ struct PinOrder {
 
 /// on_b, on_a: #k by 3 points of the pins on the two sides (unit vectors of
 /// two sphere maps, or any directions from a centre). Every triple up to 60
-/// pins; beyond, an even stride through about 34k of them.
+/// pins; beyond, about 34k triples drawn with a fixed seed.
 PinOrder pin_order(const MatrixX3d& on_b, const MatrixX3d& on_a);
 
 /// The ConstraintError text for mirrored pins, naming the most involved ones.

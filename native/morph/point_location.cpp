@@ -60,7 +60,10 @@ SphereLocations locate_on_sphere_map(const MatrixX3d& X, const MatrixX3i& F, con
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < points.rows(); ++i) {
     const Eigen::RowVector3d p = points.row(i);
-    const Index f = locate_on_sphere(X, F, neighbors, false, {p.data(), -1}, nearest.face[i]);
+    // The walk fails only on a map that folds (a caller's input): the
+    // nearest face is then the best answer there is, never an index of -1.
+    const Index walked = locate_on_sphere(X, F, neighbors, false, {p.data(), -1}, nearest.face[i]);
+    const Index f = walked >= 0 ? walked : nearest.face[i];
     out.face[i] = f;
     const Eigen::RowVector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
     Eigen::RowVector3d w(p.dot(b.cross(c)), p.dot(c.cross(a)), p.dot(a.cross(b)));

@@ -36,7 +36,8 @@ struct SphereLocations {
   MatrixX3d bary;  ///< #P by 3: its barycentric coordinates there by central projection (>= 0, sum 1)
 };
 
-/// X, F: a fold-free sphere map covering the sphere once (not checked);
+/// X, F: a fold-free sphere map covering the sphere once (not checked: on
+/// a folded one a point the walk cannot place gets its nearest face);
 /// points: #P by 3 non-zero directions.
 SphereLocations locate_on_sphere_map(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& points);
 

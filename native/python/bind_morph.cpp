@@ -5,6 +5,8 @@
 
 #include <pybind11/stl.h>
 
+#include <limits>
+
 #include "morph/align_sphere_map.h"
 #include "morph/flow_sphere_map.h"
 #include "morph/map_distortion.h"
@@ -234,7 +236,11 @@ len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
         const MatrixX3i f = to_faces(F, "F");
         MatrixX3d x = to_vertices(X, "X");
         std::vector<char> flags(std::size_t(v.rows()), 0);
-        for (const Index i : to_indices(fixed, "fixed")) flags.at(std::size_t(i)) = 1;
+        for (const Index i : to_indices(fixed, "fixed")) {
+          PM_REQUIRE(i >= 0 && i < v.rows(), InvalidInputError, "fixed vertex ", i, " is out of range (", v.rows(),
+                     " vertices)");
+          flags[std::size_t(i)] = 1;
+        }
         spherical::SphereUntangleOptions o;
         o.max_rings = max_rings;
         spherical::SphereUntangleResult r;
@@ -248,10 +254,10 @@ len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
       "Untangles the few folded spots of a sphere map patch by patch: (X, folded before, folded after, patches, rings).");
   m.def(
       "carry_through_maps",
-      [](const py::object& VA, const py::object& FA, const py::object& sphere_a, const py::object& sphere_b) {
+      [](const py::object& VA, const py::object& FA, const py::object& sphere_a, const py::object& points) {
         const MatrixX3d va = to_vertices(VA, "VA");
         const MatrixX3i fa = to_faces(FA, "FA");
-        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(sphere_b, "points");
+        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(points, "points");
         MatrixX3d carried;
         {
           py::gil_scoped_release release;
@@ -271,8 +277,17 @@ morph::MorphOptions morph_options(bool automatic, const py::object& pairs, const
   auto to_pairs = [](const py::object& obj, const char* name) {
     std::vector<std::array<Index, 2>> out;
     const py::array_t<long long, py::array::c_style | py::array::forcecast> a(obj);
+    // An empty list arrives as shape (0,): no pairs, not a wrong shape.
+    if (a.size() == 0) return out;
     PM_REQUIRE(a.ndim() == 2 && a.shape(1) == 2, InvalidInputError, name, " must be a (k, 2) integer array");
-    for (py::ssize_t i = 0; i < a.shape(0); ++i) out.push_back({Index(a.at(i, 0)), Index(a.at(i, 1))});
+    constexpr long long kLargest = std::numeric_limits<Index>::max();
+    for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+      // Out of Index's range must not wrap round into a valid vertex.
+      const long long va = a.at(i, 0), vb = a.at(i, 1);
+      PM_REQUIRE(va >= -kLargest && va <= kLargest && vb >= -kLargest && vb <= kLargest, InvalidInputError, name, " ", i,
+                 " (", va, ", ", vb, ") is out of range");
+      out.push_back({Index(va), Index(vb)});
+    }
     return out;
   };
   if (!pairs.is_none()) o.pairs = to_pairs(pairs, "pairs");
@@ -301,13 +316,13 @@ void def_correspondence(py::module_& m) {
       .def_property_readonly("proxy_pairs", [](const CorrespondenceCandidate& c) { return pairs_to_numpy(c.proxy_pairs); },
                              "(k, 2) its automatic pairs on the proxies")
       .def_readonly("score", &CorrespondenceCandidate::score,
-                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi): lower is better; inf when rejected")
+                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi): lower is better; inf when rejected before scoring")
       .def_readonly("distortion", &CorrespondenceCandidate::distortion,
                     "mean isometric distortion of its correspondence (0 for an isometry)")
       .def_readonly("curvature_mismatch", &CorrespondenceCandidate::curvature_mismatch,
                     "mean difference of smoothed Gaussian curvature at corresponding points, over its spread")
       .def_readonly("turn", &CorrespondenceCandidate::turn, "radians it turns B from where it is placed")
-      .def_readonly("rejected", &CorrespondenceCandidate::rejected, "why it was not scored ('' when scored)")
+      .def_readonly("rejected", &CorrespondenceCandidate::rejected, "why it could not be used: before scoring (score inf) or, by morph, on the models ('' otherwise)")
       .def("__repr__", [](const CorrespondenceCandidate& c) {
         return "<CorrespondenceCandidate " + c.kind + " (" + c.detail + ") score=" + std::to_string(c.score) +
                (c.rejected.empty() ? "" : " rejected: " + c.rejected) + ">";
@@ -411,7 +426,7 @@ distortion they make, no ground truth needed: none (the models as placed),
 pairings of extremity tips (segment_extremities), 3D registrations from the
 principal axes, the thesis' feature points (match_features); the lowest
 wins, so automatic pairs are used only when they beat no pairs
-(automatic=False: the pins alone). pins: (k, 2) (vertex of A, vertex of B),
+(automatic=False: the pins and any given pairs alone). pins: (k, 2) (vertex of A, vertex of B),
 hard: the pinned vertex of A lands exactly on its partner at t = 1. pairs:
 (k, 2) to use instead of the automatic candidates (e.g. an edited preview).
 The maps are overlaid (4.4) into one merged topology.

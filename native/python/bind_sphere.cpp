@@ -1,4 +1,5 @@
-// sphere_map(): fold-free spherical parameterization (param/spherical/sphere_map.h).
+// sphere_map(): fold-free spherical parameterization (param/spherical/sphere_map.h);
+// isometric_sphere_map and balanced_sphere_map (param/spherical/), the morph's maps.
 #include <pybind11/stl.h>
 
 #include "param/spherical/balanced_sphere_map.h"

@@ -117,6 +117,20 @@ TEST(PinOrder, AMirrorImageIsToldFromAMildDistortion) {
   EXPECT_NE(mirrored_pins_message(order).find("mirrored order"), std::string::npos);
 }
 
+TEST(PinOrder, ThousandsOfPointsAreSampledNotCountedPastOverflow) {
+  // 3000 points: k^3 overflows 32 bits; the triples are drawn instead.
+  MatrixX3d on_a = MatrixX3d::Random(3000, 3);
+  on_a.rowwise().normalize();
+  const PinOrder same = pin_order(on_a * turn(0.7, {0, 1, 1}), on_a);
+  EXPECT_GT(same.oriented, 10000);
+  EXPECT_EQ(same.disagreeing, 0);
+  MatrixX3d mirrored = on_a;
+  mirrored.col(0) *= -1;
+  const PinOrder order = pin_order(mirrored, on_a);
+  EXPECT_TRUE(order.mirrored());
+  EXPECT_EQ(order.disagreeing, order.oriented);
+}
+
 TEST(TipAssignments, FindTheRotationThatPairsEveryTip) {
   const MatrixX3d tips_a = unit_rows({{1, 0, -1}, {1, 0.3, -1}, {-1, 0, -1}, {-1, 0.3, -1}, {1.5, 0.2, 0.6}, {-1.5, 0.1, 0.3}});
   const Eigen::Matrix3d R = turn(1.1, {0.3, 1, 0.2});

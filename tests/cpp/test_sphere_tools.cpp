@@ -196,7 +196,7 @@ TEST(MeshQuantities, GaussianCurvatureIntegratesToFourPiAndDistancesGrow) {
   const VectorXd d = edge_path_distances(mesh, {0});
   EXPECT_EQ(d[0], 0);
   EXPECT_GT(d.maxCoeff(), (V.row(0) - V.colwise().mean()).norm());
-  EXPECT_THROW(edge_path_distances(mesh, {V.rows()}), InvalidInputError);
+  EXPECT_THROW(edge_path_distances(mesh, {Index(V.rows())}), InvalidInputError);
   // Inside-out: the enclosed volume turns negative.
   MatrixX3i turned = F;
   turned.col(1).swap(turned.col(2));

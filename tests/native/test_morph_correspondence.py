@@ -136,6 +136,13 @@ def test_mirrored_pins_are_refused_by_name(reposed):
         pm.morph(VA, FA, VB, FB, pins=np.stack([LA, swapped], axis=1))
 
 
+def test_given_pairs_in_mirrored_order_are_a_constraint_error(reposed):
+    VA, FA, LA, VB, FB, LB, _ = reposed
+    swapped = LB[[1, 0, 3, 2, 4, 5]]
+    with pytest.raises(pm.ConstraintError, match="given pairs are in mirrored order"):
+        pm.morph(VA, FA, VB, FB, pairs=np.stack([LA, swapped], axis=1))
+
+
 def test_contradictory_and_out_of_range_pins_raise_typed_errors(reposed):
     VA, FA, LA, VB, FB, LB, _ = reposed
     with pytest.raises(pm.ConstraintError, match="pins 0 and 1 both pin vertex"):
@@ -146,6 +153,9 @@ def test_contradictory_and_out_of_range_pins_raise_typed_errors(reposed):
         pm.morph(VA, FA, VB, FB, pins=np.array([[0, len(VB)]]))
     with pytest.raises(pm.InvalidInputError):
         pm.morph(VA, FA, VB, FB, pins=np.array([0, 1, 2]))
+    # Past 32 bits: refused, not wrapped round onto vertex LB[0].
+    with pytest.raises(pm.InvalidInputError, match="out of range"):
+        pm.morph(VA, FA, VB, FB, pins=np.array([[LA[0], 2**32 + LB[0]]], dtype=np.int64))
 
 
 def test_cancel_while_aligning_leaves_nothing(reposed):

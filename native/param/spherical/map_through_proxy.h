@@ -4,7 +4,7 @@
 // morph computes its correspondence on proxies of a few thousand faces and
 // carries it to the models this way (issue 16: 97k faces in a minute). The
 // result may fold where the fine surface turns against the proxy's faces
-// (thin tips, noise); morph/untangle_sphere_map repairs that.
+// (thin tips, noise); param/spherical/untangle_sphere_map repairs that.
 #pragma once
 
 #include "mesh/types.h"

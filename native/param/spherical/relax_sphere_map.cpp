@@ -55,6 +55,14 @@ RelaxPoorResult relax_poor_regions(const MatrixX3d& V, const MatrixX3i& F, Matri
   std::vector<Index> faces;
   for (Index f = 0; f < F.rows(); ++f)
     if (in[std::size_t(f)]) faces.push_back(f);
+  // A face flat or turned to rounding (a caller's fold test may allow a
+  // triple product of -1e-13) has no finite energy to descend from: leave
+  // the map as it is rather than fail.
+  for (const Index f : faces)
+    if (!std::isfinite(ratio[f])) {
+      result.skipped = true;
+      return result;
+    }
   MatrixX3i RF(Index(faces.size()), 3);
   for (std::size_t i = 0; i < faces.size(); ++i)
     for (int k = 0; k < 3; ++k) {

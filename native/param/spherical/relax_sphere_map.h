@@ -24,6 +24,7 @@ struct RelaxPoorResult {
   Index region_faces = 0;  ///< faces relaxed (the poor ones and their rings)
   int steps = 0;           ///< Newton steps taken
   double worst_before = 0, worst_after = 0;  ///< largest energy ratio of the poor faces
+  bool skipped = false;  ///< a face of the region is flat or turned over to rounding: nothing was moved
 };
 
 /// V, F: the model; X: #V by 3 unit vectors, fold-free, modified in place;

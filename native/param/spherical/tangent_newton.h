@@ -5,7 +5,7 @@
 // analysed once (CHOLMOD supernodal LLT, the better of AMD and METIS), so a
 // step costs one numeric factorisation. Fixed vertices (hard pins) get the
 // identity: their step is exactly 0. Used by the morph's log-barrier maps
-// (morph/sphere_map_barrier) and the isometric sphere map
+// (param/spherical/sphere_map_barrier) and the isometric sphere map
 // (param/spherical/isometric_sphere_map).
 #pragma once
 

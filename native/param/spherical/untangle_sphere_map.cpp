@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/errors.h"
 #include "mesh/face_neighbors.h"
 #include "mesh/tri_mesh.h"
 #include "param/planar/isometric_energy.h"
@@ -147,6 +148,10 @@ std::vector<Index> inner_vertices(const TriMesh& mesh, const std::vector<Index>&
 
 SphereUntangleResult untangle_sphere_map(const MatrixX3d& V, const MatrixX3i& F, MatrixX3d& X,
                                          const std::vector<char>& fixed, const SphereUntangleOptions& o) {
+  PM_REQUIRE(X.rows() == V.rows() && fixed.size() == std::size_t(V.rows()) &&
+                 (F.size() == 0 || (F.minCoeff() >= 0 && F.maxCoeff() < V.rows())),
+             InvalidInputError, "untangle_sphere_map: X and fixed need one row per vertex (", V.rows(),
+             "), faces within range");
   SphereUntangleResult result;
   const TriMesh mesh(V, F);
   auto folded_faces = [&] {
