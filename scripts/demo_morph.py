@@ -4,11 +4,12 @@
 
 Builds the morph sample of blend_samples/make_samples.py (a closed Suzanne
 and a blob of unrelated triangulations) and runs the add-on's operators on it
-as an artist would: Preview Matches (matched regions coloured alike on both
-objects), then Morph To over N frames (eased). The morph object carries
-Suzanne's region colours; the two inputs are hidden. Saves DIR/morph.blend and
-renders the first, middle and last frames with Workbench to
-DIR/morph_####.png."""
+as an artist would: Segment Extremities on Suzanne (its regions' colours are
+what the renders show), Preview Matches (the correspondence Morph To will
+choose, printed with its score and what "no pairs" scored), then Morph To
+over N frames (eased). The morph object carries Suzanne's region colours; the
+two inputs are hidden. Saves DIR/morph.blend and renders the first, middle and
+last frames with Workbench to DIR/morph_####.png."""
 import os
 import sys
 
@@ -34,10 +35,18 @@ def main():
     args, out_dir = demo_blender.start("demo_morph.py", (960, 720), lambda parser: parser.add_argument(
         "--frames", type=int, default=48, help="length of the morph"))
     source, target = make_samples.build_morph_pair()
+    view_layer = bpy.context.view_layer
+    view_layer.objects.active = source
+    bpy.ops.paramorph.segment_extremities()
+    print(f"demo: {source.name}: {source.paramorph_regions} regions (their colours ride along)", flush=True)
+    view_layer.objects.active = target  # the pair again: Suzanne selected, the blob active
     bpy.ops.paramorph.preview_matches()
-    pairs = len(bpy.context.scene.paramorph_matches.pairs)
-    print(f"demo: preview matches: {source.paramorph_regions} / {target.paramorph_regions} regions, "
-          f"{pairs} pairs", flush=True)
+    matches = bpy.context.scene.paramorph_matches
+    chosen = next(c for c in matches.candidates if c.chosen)
+    none = next((c for c in matches.candidates if c.kind == "none"), None)
+    print(f"demo: preview matches: chosen {chosen.kind} ({chosen.detail}), score {chosen.score:.3g}"
+          + (f", no pairs {none.score:.3g}" if none is not None else "")
+          + f"; {len(matches.pairs)} pairs of {len(matches.candidates)} candidates", flush=True)
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, args.frames
     bpy.ops.paramorph.morph_to(frame_start=1, frame_end=args.frames, easing="EASE")

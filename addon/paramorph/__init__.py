@@ -14,7 +14,7 @@ bl_info = {
 
 
 _CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
-                  "ops_morph", "ops_paste", "panels", "overlay")
+                  "ops_morph", "ops_pins", "ops_paste", "panels", "overlay")
 
 
 def _modules():
@@ -28,6 +28,7 @@ def _menu_entries(self, context):
     layout.operator("paramorph.sphere_map")
     layout.operator("paramorph.segment_extremities")
     layout.operator("paramorph.detect_feature_regions")
+    layout.operator("paramorph.pick_pins")
     layout.operator("paramorph.preview_matches")
     layout.operator("paramorph.morph_to")
     layout.operator("paramorph.paste_feature")

@@ -10,7 +10,8 @@ would in the UI, and writes the result.
     common: [--object NAME ...] [--backend auto|cpu|opencl]
 
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- morph A B -o OUT.blend
-                   [--frames N] [--start F] [--in-betweens K] [--linear] [--no-features]
+                   [--frames N] [--start F] [--in-betweens K] [--linear]
+                   [--pin A_VERTEX B_VERTEX ...] [--no-automatic]
                    [--source-object NAME] [--target-object NAME] [--backend ...]
 
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- paste SOURCE TARGET OUT
@@ -22,6 +23,10 @@ would in the UI, and writes the result.
 morph builds the object "<source> to <target>" on the merged topology of A's
 and B's meshes with shape keys from A's shape to B's, keyframed over N frames
 from frame F (the scene's frame range is set to it), and saves the .blend.
+Each --pin takes vertex A_VERTEX of A exactly onto vertex B_VERTEX of B (Add
+Pin); --no-automatic leaves the correspondence to the pins and the objects'
+placement (Morph To's Automatic Matching off). It prints the candidate the
+morph chose and its score, and what held exactly.
 
 paste copies a feature from SOURCE's mesh (Copy Feature on the faces whose
 centre lies in the ball X,Y,Z,R, or the faces of vertex group NAME; both in
@@ -125,8 +130,12 @@ def build_parser():
     morph.add_argument("--in-betweens", type=int, default=0, metavar="K",
                        help="shape keys between source and target (default 0)")
     morph.add_argument("--linear", action="store_true", help="constant speed instead of eased")
-    morph.add_argument("--no-features", dest="features", action="store_false",
-                       help="no automatic feature matching (correspondence by direction from the centre)")
+    morph.add_argument("--pin", nargs=2, type=int, action="append", dest="pins", default=[],
+                       metavar=("A_VERTEX", "B_VERTEX"),
+                       help="take vertex A_VERTEX of A exactly onto vertex B_VERTEX of B (repeatable; "
+                            "0-based indices of the meshes as loaded)")
+    morph.add_argument("--no-automatic", dest="automatic", action="store_false",
+                       help="no automatic correspondence: only the pins and the objects' placement decide")
     morph.add_argument("--source-object", metavar="NAME", help="mesh object of A (when A has several)")
     morph.add_argument("--target-object", metavar="NAME", help="mesh object of B (when B has several)")
     morph.add_argument("--backend", choices=("auto", "cpu", "opencl"),
@@ -208,10 +217,27 @@ def parse_args(argv):
                     parser.error(f"--{name.replace('_', '-')} applies to --mode {mode}")
     if args.command == "morph" and (args.frames < 2 or args.in_betweens < 0):
         parser.error("--frames must be at least 2 and --in-betweens at least 0")
+    if args.command == "morph":
+        check_pins(parser, args.pins)
     if args.command == "paste" and args.select_ball is not None and args.select_ball[3] <= 0:
         parser.error("--select-ball needs a radius above 0")
     args.parser = parser
     return args
+
+
+def check_pins(parser, pins):
+    """--pin indices are not negative and no vertex is pinned twice (Add Pin
+    would let the later pin replace the earlier one silently)."""
+    seen = ({}, {})
+    for i, pin in enumerate(pins):
+        for side, (vertex, label) in enumerate(zip(pin, "AB")):
+            if vertex < 0:
+                parser.error(f"--pin {pin[0]} {pin[1]}: vertex indices start at 0")
+            if vertex in seen[side]:
+                first = pins[seen[side][vertex]]
+                parser.error(f"--pin {first[0]} {first[1]} and --pin {pin[0]} {pin[1]} both pin vertex "
+                             f"{vertex} of {label}")
+            seen[side][vertex] = i
 
 
 # --- Blender side -------------------------------------------------------------
@@ -271,6 +297,7 @@ def enable_addon(backend):
         raise CliError(native.load_error)
     if backend is not None:
         bpy.context.preferences.addons[package].preferences.backend = backend
+    return package
 
 
 def check_ranges(parser, op, options, flags):
@@ -454,27 +481,33 @@ def start_two_file_command(args, source_label, target_label):
         if not os.path.isfile(path):
             raise CliError(f"{label}: {path}: no such file")
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    enable_addon(args.backend)
+    return enable_addon(args.backend)
 
 
 def morph_main(args):
     name = "paramorph morph"
     try:
-        start_two_file_command(args, "A", "B")
+        package = start_two_file_command(args, "A", "B")
         source, target = (_added_mesh_object(os.path.abspath(path), wanted, label)
                           for label, path, wanted in (("A", args.source, args.source_object),
                                                       ("B", args.target, args.target_object)))
         activate(target, [source, target])
+        for a, b in args.pins:
+            call_operator(bpy.ops.paramorph.add_pin, vertex_a=a, vertex_b=b)
         scene = bpy.context.scene
         scene.frame_start, scene.frame_end = args.start, args.start + args.frames - 1
         call_operator(bpy.ops.paramorph.morph_to, frame_start=scene.frame_start, frame_end=scene.frame_end,
                       in_betweens=args.in_betweens, easing="LINEAR" if args.linear else "EASE",
-                      use_features=args.features, use_preview=False)
+                      automatic=args.automatic, use_preview=False)
         result = bpy.context.view_layer.objects.active
         keys = len(result.data.shape_keys.key_blocks) - 1
         print(f"{name}: {result.name}: {len(result.data.vertices)} vertices, {len(result.data.polygons)} faces, "
               f"{keys} shape key{'' if keys == 1 else 's'}, frames {scene.frame_start}-{scene.frame_end}",
               flush=True)
+        summary = sys.modules[f"{package}.ops_morph"].last_morph
+        print(f"{name}: {summary['chosen']}; {summary['held']}", flush=True)
+        for note in summary["notes"]:
+            print(f"{name}: {note}", flush=True)
         out = os.path.abspath(args.output)
         if os.path.dirname(out):
             os.makedirs(os.path.dirname(out), exist_ok=True)

@@ -1,16 +1,25 @@
-"""Morphing operators (thesis ch. 4): "Preview Matches" finds the feature
-pairs of two selected meshes and shows them (regions coloured alike on both,
-pairs as dots joined by lines); the user removes pairs or pins their own;
-"Morph To" builds a new object on the merged topology with shape keys from
-the source (the selected object) to the target (the active one), keyframed
-over a frame range. Nothing is written unless the native call succeeded."""
+"""Morphing operators (thesis ch. 4; issue 16). The source is the selected mesh,
+the target the active one.
+
+- "Pick Pins": a viewport tool; click a vertex of one object, then its partner
+  on the other, and the morph takes the one exactly onto the other. "Add Pin"
+  does the same from one selected vertex on each (Edit Mode) or from explicit
+  indices (scripts).
+- "Preview Matches": the automatic correspondence Morph To would choose, with
+  every candidate it weighed and its score; its pairs are listed and drawn,
+  and can be removed before morphing.
+- "Morph To": a new object on the merged topology with shape keys from the
+  source to the target, keyframed over a frame range.
+
+Pins, pairs and candidates live in the scene (`scene.paramorph_matches`),
+so they are saved with the .blend. Nothing is written unless the native call
+succeeded."""
 import bpy
 import numpy as np
 
-from . import bridge, messages, morph_object, overlay, regions, sphere_cache
+from . import bridge, messages, morph_object, overlay
 from .native import native
 from .native_operator import NativeOperator, UserError
-from .ops_segment import FeatureRegionSettings
 
 
 def two_objects(context):
@@ -22,7 +31,7 @@ def two_objects(context):
     return others[0], target
 
 
-def _poll_two(context):
+def poll_two(context):
     target = context.active_object
     return (target is not None and target.type == "MESH" and len(context.selected_objects) == 2
             and all(o.type == "MESH" for o in context.selected_objects))
@@ -33,85 +42,240 @@ def _arrays(context, obj):
         return bridge.mesh_arrays(obj.data, polygons=True, loops=True)
 
 
-def stored_matches(context, source, target):
-    """The preview's pairs when they belong to these two objects as they are now, else None."""
-    matches = context.scene.paramorph_matches
-    if (matches.source != source or matches.target != target
-            or matches.source_vertices != len(source.data.vertices)
-            or matches.target_vertices != len(target.data.vertices)):
-        return None
+# --- the scene's pins and pairs ------------------------------------------------------
+
+def belongs_to(matches, source, target):
+    """Whether the scene's list was made for these two objects (in this order)."""
+    return matches.source == source and matches.target == target
+
+
+def is_current(matches, source, target):
+    """Whether the list's vertex indices were taken on these meshes as they are now."""
+    return (belongs_to(matches, source, target) and matches.source_vertices == len(source.data.vertices)
+            and matches.target_vertices == len(target.data.vertices))
+
+
+def claim(matches, source, target):
+    """The scene's list for these two objects: kept when it is theirs and current,
+    else emptied (pins for other objects or other geometry mean nothing here)."""
+    if not is_current(matches, source, target):
+        matches.pairs.clear()
+        matches.candidates.clear()
+        matches.source, matches.target = source, target
+        matches.source_vertices, matches.target_vertices = len(source.data.vertices), len(target.data.vertices)
+        matches.pair_index = 0
     return matches
+
+
+def add_pair(matches, vertex_a, vertex_b, pin=False, kind=""):
+    item = matches.pairs.add()
+    item.vertex_a, item.vertex_b, item.pin, item.kind = vertex_a, vertex_b, pin, kind
+    return item
+
+
+def add_pin(matches, vertex_a, vertex_b):
+    """Pins vertex_a of the source to vertex_b of the target; the pin replaces
+    every pair (automatic or pin) on either vertex. Returns how many it replaced."""
+    replaced = 0
+    for i in reversed(range(len(matches.pairs))):
+        if matches.pairs[i].vertex_a == vertex_a or matches.pairs[i].vertex_b == vertex_b:
+            matches.pairs.remove(i)
+            replaced += 1
+    add_pair(matches, vertex_a, vertex_b, pin=True)
+    matches.pair_index = len(matches.pairs) - 1
+    return replaced
+
+
+_CANDIDATE_FIELDS = ("kind", "detail", "score", "distortion", "rejected", "chosen", "pairs")
+
+
+def snapshot(matches):
+    """Everything in the scene's list, to put back with restore() (a cancelled Pick Pins)."""
+    return {"source": matches.source, "target": matches.target,
+            "vertices": (matches.source_vertices, matches.target_vertices), "pair_index": matches.pair_index,
+            "pairs": [(p.vertex_a, p.vertex_b, p.pin, p.kind) for p in matches.pairs],
+            "candidates": [tuple(getattr(c, name) for name in _CANDIDATE_FIELDS) for c in matches.candidates]}
+
+
+def restore(matches, saved):
+    matches.source, matches.target = saved["source"], saved["target"]
+    matches.source_vertices, matches.target_vertices = saved["vertices"]
+    matches.pairs.clear()
+    for a, b, pin, kind in saved["pairs"]:
+        add_pair(matches, a, b, pin=pin, kind=kind)
+    matches.candidates.clear()
+    for values in saved["candidates"]:
+        item = matches.candidates.add()
+        for name, value in zip(_CANDIDATE_FIELDS, values):
+            setattr(item, name, value)
+    matches.pair_index = saved["pair_index"]
+
+
+def pin_array(matches):
+    """(k, 2) int32 pins in list order (native numbers them so: "pin 0" is the first)."""
+    return np.array([(p.vertex_a, p.vertex_b) for p in matches.pairs if p.pin], dtype=np.int32).reshape(-1, 2)
+
+
+def pair_array(matches):
+    """(k, 2) int32 automatic (previewed) pairs, without those sharing a vertex with a pin."""
+    pins = pin_array(matches)
+    return np.array([(p.vertex_a, p.vertex_b) for p in matches.pairs if not p.pin
+                     and p.vertex_a not in pins[:, 0] and p.vertex_b not in pins[:, 1]],
+                    dtype=np.int32).reshape(-1, 2)
+
+
+def check_indices(matches, source, target):
+    """UserError naming the object and the row when an (edited) index is not a vertex."""
+    na, nb = len(source.data.vertices), len(target.data.vertices)
+    pin = 0
+    for row, p in enumerate(matches.pairs):
+        label = f"pin {pin}" if p.pin else f"pair {row}"
+        for obj, vertex, count in ((source, p.vertex_a, na), (target, p.vertex_b, nb)):
+            if vertex >= count:
+                raise UserError(f"{label} ({p.vertex_a}, {p.vertex_b}): {obj.name} has no vertex {vertex} "
+                                f"(it has {count}): edit or remove it in the Paramorph panel")
+        pin += p.pin
+
+
+def constraints(context, source, target, use_pairs):
+    """(pins, pairs or None) for a native call on these two objects: the scene's
+    pins when the list is theirs, and its previewed pairs when `use_pairs` and
+    there are some. Pins picked on other geometry are an error, not ignored."""
+    matches = context.scene.paramorph_matches
+    if not belongs_to(matches, source, target) or not len(matches.pairs):
+        return np.zeros((0, 2), dtype=np.int32), None
+    if not is_current(matches, source, target):
+        if any(p.pin for p in matches.pairs):
+            raise UserError(
+                f"the pins of {source.name} → {target.name} were picked on {matches.source_vertices} and "
+                f"{matches.target_vertices} vertices, the meshes have {len(source.data.vertices)} and "
+                f"{len(target.data.vertices)} now: Clear Pins and pick them again")
+        return np.zeros((0, 2), dtype=np.int32), None
+    check_indices(matches, source, target)
+    pairs = pair_array(matches) if use_pairs else None
+    return pin_array(matches), pairs if pairs is not None and len(pairs) else None
+
+
+def candidate_line(candidate):
+    """'extremities — 6 of 7 and 7 tips paired, 2 deg apart, score 0.67' (a native or a stored candidate)."""
+    head = f"{candidate.kind} — {candidate.detail}" if candidate.detail else candidate.kind
+    if candidate.rejected:
+        return f"{head}, rejected: {candidate.rejected}"
+    return f"{head}, score {candidate.score:.3g}"
+
+
+def _count(n, word):
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def inside_out_note(result, source, target):
+    """"Horse's faces pointed inwards: turned for the morph" for each inside-out file."""
+    turned = [o.name for o, flag in ((source, result.inside_out_a), (target, result.inside_out_b)) if flag]
+    return [f"{name}'s faces pointed inwards: turned for the morph" for name in turned]
+
+
+# --- operators -----------------------------------------------------------------------
+
+class CorrespondenceSettings:
+    """The native correspondence's candidate switches, as operator properties
+    (mixin for Preview Matches and Morph To; names mirror morph()'s keywords)."""
+
+    extremities: bpy.props.BoolProperty(
+        name="Extremities", default=True,
+        description="Weigh pairings of the extremity tips (limbs, head, tail) of both meshes")
+    registration: bpy.props.BoolProperty(
+        name="Registration", default=True,
+        description="Weigh 3D registrations of the two shapes (as placed, and by principal axes)")
+    features: bpy.props.BoolProperty(
+        name="Feature Points", default=True,
+        description="Weigh the pairing of feature points (creases, pockets) of both meshes")
+    proxy_faces: bpy.props.IntProperty(
+        name="Proxy Faces", default=3000, min=500, soft_max=20000,
+        description="Faces of the simplified copies the candidates are scored on (more: slower, "
+                    "finer; a smaller mesh is its own proxy)")
+
+    def correspondence_options(self):
+        return {"extremities": self.extremities, "registration": self.registration,
+                "features": self.features, "proxy_faces": self.proxy_faces}
 
 
 class _TwoMeshes(NativeOperator):
     @classmethod
     def poll(cls, context):
-        return _poll_two(context)
+        return poll_two(context)
 
     def describe_error(self, error, state):
         # The native side names the mesh ("mesh A: ..."/"mesh B: ..."): report it by object.
         text = str(error)
-        for tag, side in (("mesh A", "source"), ("mesh B", "target")):
+        pair = f"{state['source']} → {state['target']}"
+        if isinstance(error, native.ConstraintError):  # a vertex pinned twice, mirrored pins, folds
+            for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
+                if text.startswith(tag):
+                    text = f"{state[side]}: {text[len(tag):]}"
+            return (f"{pair}: {text} (A: {state['source']}, B: {state['target']}): "
+                    "edit or remove pins or pairs in the Paramorph panel")
+        for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
             if text.startswith(tag):
-                return f"{state[side]}: {messages.describe(error, *state['arrays_' + side])}"
+                stripped = _with_text(error, text[len(tag):])
+                return f"{state[side]}: {messages.describe(stripped, *state['arrays_' + side])}"
+        if isinstance(error, native.InvalidInputError):  # pins or pairs out of range
+            return f"{pair}: {text} (A: {state['source']}, B: {state['target']})"
         return messages.describe(error)
 
 
-class PARAMORPH_OT_preview_matches(_TwoMeshes, FeatureRegionSettings, bpy.types.Operator):
-    """Match the feature regions and feature points of the selected mesh (source) and the
-    active mesh (target), and show the pairs before morphing"""
+def _with_text(error, text):
+    """The same kind of error with a new message (the mesh tag taken off)."""
+    try:
+        return type(error)(text)
+    except Exception:
+        return error
+
+
+class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types.Operator):
+    """Find the correspondence Morph To would use for the selected mesh (source) and the
+    active mesh (target): every automatic candidate with its score, the chosen one's pairs
+    listed and drawn. Your pins are kept and taken into account"""
     bl_idname = "paramorph.preview_matches"
     bl_label = "Preview Matches"
     bl_options = {"REGISTER", "UNDO"}
 
     def prepare(self, context):
         source, target = two_objects(context)
-        VA, FA, tri_poly_a, _ = _arrays(context, source)
-        VB, FB, tri_poly_b, _ = _arrays(context, target)
-        options = self.feature_options()
+        pins, _ = constraints(context, source, target, use_pairs=False)
+        VA, FA, _, _ = _arrays(context, source)
+        VB, FB, _, _ = _arrays(context, target)
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
-                 "arrays_target": (VB, FB), "tri_poly": (tri_poly_a, tri_poly_b)}
-        # The pairs Morph To would make (B registered onto A, then feature points paired).
-        return native.morph_pairs, (VA, FA, VB, FB), options, state
+                 "arrays_target": (VB, FB), "pins": pins}
+        options = dict(self.correspondence_options(), pins=pins)
+        return native.morph_correspondence, (VA, FA, VB, FB), options, state
 
     def finish(self, context, result, state):
-        match = result.match
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
-        labels_a = np.asarray(match.labels_a)
-        labels_b = np.asarray(match.labels_b)
-        # Matched regions share a colour: B's matched regions take their A partner's label.
-        relabel = np.arange(labels_b.max() + 1 if len(labels_b) else 0) + int(labels_a.max()) + 1
-        for a, b in np.asarray(match.region_pairs).reshape(-1, 2):
-            relabel[b] = a
-        for obj, triangle_labels, tri_poly in ((source, labels_a, state["tri_poly"][0]),
-                                               (target, relabel[labels_b], state["tri_poly"][1])):
-            labels = regions.polygon_labels(obj.data, triangle_labels, tri_poly)
-            with bridge.object_mode(context, obj):
-                regions.write_labels(obj.data, labels)
-                regions.write_label_colors(obj.data, labels)
-            obj.paramorph_regions = int(labels.max()) + 1 if len(labels) else 0
-            overlay.forget(obj.name)
-
-        matches = context.scene.paramorph_matches
-        pins = [(p.vertex_a, p.vertex_b) for p in matches.pairs if p.pin] \
-            if stored_matches(context, source, target) else []
-        matches.pairs.clear()
-        matches.source, matches.target = source, target
-        matches.source_vertices, matches.target_vertices = len(source.data.vertices), len(target.data.vertices)
-        for a, b in pins:
-            add_pair(matches, a, b, 0.0, pin=True)
+        matches = claim(context.scene.paramorph_matches, source, target)
+        for i in reversed(range(len(matches.pairs))):  # the pins stay, the old automatic pairs go
+            if not matches.pairs[i].pin:
+                matches.pairs.remove(i)
+        matches.candidates.clear()
+        candidates = result.candidates  # a new list per access
+        for i, c in enumerate(candidates):
+            item = matches.candidates.add()
+            item.kind, item.detail, item.rejected = c.kind, c.detail, c.rejected
+            item.score, item.distortion = c.score, c.distortion  # inf (rejected) is stored as FLT_MAX
+            item.chosen, item.pairs = i == result.chosen, len(c.proxy_pairs)
+        chosen = candidates[result.chosen]
         pairs = np.asarray(result.pairs).reshape(-1, 2)
-        for (a, b), score in zip(pairs, result.scores):
-            add_pair(matches, int(a), int(b), float(score))
+        pins = pin_array(matches)
+        for a, b in pairs:
+            if a not in pins[:, 0] and b not in pins[:, 1]:
+                add_pair(matches, int(a), int(b), kind=chosen.kind)
+        matches.pair_index = min(matches.pair_index, max(len(matches.pairs) - 1, 0))
         overlay.tag_redraw(context)
-        return (f"Preview Matches: {len(match.region_pairs)} region pairs, "
-                f"{len(pairs)} point pairs" + (f", {len(pins)} pins kept" if pins else ""))
-
-
-def add_pair(matches, vertex_a, vertex_b, score, pin=False):
-    item = matches.pairs.add()
-    item.vertex_a, item.vertex_b, item.score, item.pin = vertex_a, vertex_b, score, pin
-    return item
+        none = next((c for c in candidates if c.kind == "none"), None)
+        against = f" (no pairs: {none.score:.3g})" if none is not None and chosen.kind != "none" else ""
+        notes = inside_out_note(result, source, target)
+        return (f"Preview Matches: chosen {candidate_line(chosen)}{against}; "
+                f"{_count(len(matches.pairs) - len(pins), 'pair')}, {_count(len(pins), 'pin')}"
+                + "".join(f"; {n}" for n in notes))
 
 
 def _selected_vertex(context, obj):
@@ -126,48 +290,54 @@ def _selected_vertex(context, obj):
     return int(chosen[0])
 
 
+def _given_vertex(obj, vertex):
+    if vertex >= len(obj.data.vertices):
+        raise UserError(f"{obj.name} has no vertex {vertex} (it has {len(obj.data.vertices)})")
+    return vertex
+
+
 class PARAMORPH_OT_add_pin(bpy.types.Operator):
-    """Pin the selected vertex of the source to the selected vertex of the target: the
-    morph takes one to the other (edit both objects, one vertex selected on each)"""
+    """Pin a vertex of the source to a vertex of the target: the morph takes one exactly
+    onto the other (one vertex selected on each object in Edit Mode, or given by index)"""
     bl_idname = "paramorph.add_pin"
     bl_label = "Add Pin"
     bl_options = {"REGISTER", "UNDO"}
 
+    vertex_a: bpy.props.IntProperty(
+        name="Source Vertex", default=-1, min=-1,
+        description="Vertex of the source to pin (-1: the one selected in Edit Mode)")
+    vertex_b: bpy.props.IntProperty(
+        name="Target Vertex", default=-1, min=-1,
+        description="Vertex of the target it lands on (-1: the one selected in Edit Mode)")
+
     @classmethod
     def poll(cls, context):
-        return _poll_two(context)
+        return poll_two(context)
 
     def execute(self, context):
         try:
             source, target = two_objects(context)
-            a, b = _selected_vertex(context, source), _selected_vertex(context, target)
+            a = _given_vertex(source, self.vertex_a) if self.vertex_a >= 0 else _selected_vertex(context, source)
+            b = _given_vertex(target, self.vertex_b) if self.vertex_b >= 0 else _selected_vertex(context, target)
         except UserError as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        matches = context.scene.paramorph_matches
-        if stored_matches(context, source, target) is None:  # a new pair of objects
-            matches.pairs.clear()
-            matches.source, matches.target = source, target
-            matches.source_vertices = len(source.data.vertices)
-            matches.target_vertices = len(target.data.vertices)
-        for i in reversed(range(len(matches.pairs))):  # a pin replaces pairs on its vertices
-            if matches.pairs[i].vertex_a == a or matches.pairs[i].vertex_b == b:
-                matches.pairs.remove(i)
-        add_pair(matches, a, b, 0.0, pin=True)
-        matches.pair_index = len(matches.pairs) - 1
+        matches = claim(context.scene.paramorph_matches, source, target)
+        replaced = add_pin(matches, a, b)
         overlay.tag_redraw(context)
-        self.report({"INFO"}, f"pinned {source.name} vertex {a} to {target.name} vertex {b}")
+        self.report({"INFO"}, f"pinned {source.name} vertex {a} to {target.name} vertex {b}"
+                              + (f" (replacing {_count(replaced, 'pair')} on those vertices)" if replaced else ""))
         return {"FINISHED"}
 
 
 class PARAMORPH_OT_remove_pair(bpy.types.Operator):
-    """Remove the chosen pair from the matches (the morph will not use it)"""
+    """Remove the chosen pin or pair from the list (the morph will not use it)"""
     bl_idname = "paramorph.remove_pair"
     bl_label = "Remove Pair"
     bl_options = {"REGISTER", "UNDO"}
 
     index: bpy.props.IntProperty(name="Pair", default=-1, min=-1,
-                                 description="Pair to remove (-1: the one chosen in the list)")
+                                 description="Row to remove (-1: the one chosen in the list)")
 
     @classmethod
     def poll(cls, context):
@@ -185,8 +355,28 @@ class PARAMORPH_OT_remove_pair(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class PARAMORPH_OT_clear_pins(bpy.types.Operator):
+    """Remove every pin (the previewed automatic pairs stay)"""
+    bl_idname = "paramorph.clear_pins"
+    bl_label = "Clear Pins"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return any(p.pin for p in context.scene.paramorph_matches.pairs)
+
+    def execute(self, context):
+        matches = context.scene.paramorph_matches
+        for i in reversed(range(len(matches.pairs))):
+            if matches.pairs[i].pin:
+                matches.pairs.remove(i)
+        matches.pair_index = min(matches.pair_index, max(len(matches.pairs) - 1, 0))
+        overlay.tag_redraw(context)
+        return {"FINISHED"}
+
+
 class PARAMORPH_OT_clear_matches(bpy.types.Operator):
-    """Forget the previewed pairs and pins"""
+    """Forget the pins, the previewed pairs and the candidates"""
     bl_idname = "paramorph.clear_matches"
     bl_label = "Clear Matches"
     bl_options = {"REGISTER", "UNDO"}
@@ -194,14 +384,16 @@ class PARAMORPH_OT_clear_matches(bpy.types.Operator):
     def execute(self, context):
         matches = context.scene.paramorph_matches
         matches.pairs.clear()
+        matches.candidates.clear()
         matches.source = matches.target = None
         overlay.tag_redraw(context)
         return {"FINISHED"}
 
 
-class PARAMORPH_OT_morph_to(_TwoMeshes, bpy.types.Operator):
+class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operator):
     """Morph the selected mesh into the active one: a new object on a merged topology with
-    shape keys from the source's shape to the target's, keyframed over a frame range"""
+    shape keys from the source's shape to the target's, keyframed over a frame range;
+    your pins hold exactly"""
     bl_idname = "paramorph.morph_to"
     bl_label = "Morph To"
     bl_options = {"REGISTER", "UNDO"}
@@ -216,21 +408,19 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, bpy.types.Operator):
         name="Timing", default="EASE",
         items=(("LINEAR", "Linear", "Constant speed"),
                ("EASE", "Eased", "Start and end slowly (Bezier)")))
-    use_features: bpy.props.BoolProperty(
-        name="Match Features", default=True,
-        description="Match feature regions and points automatically so alike parts morph "
-                    "into each other (off: correspondence by direction from the centre)")
-    use_preview: bpy.props.BoolProperty(
-        name="Use Previewed Pairs", default=True,
-        description="Use the pairs and pins of Preview Matches for these two objects, as edited")
     placement: bpy.props.EnumProperty(
         name="End At", default="SOURCE",
         items=(("SOURCE", "Source's Place", "The target's shape, in the source's place"),
                ("TARGET", "Target's Place", "The morph ends where the target object is")))
-    epsilon: bpy.props.FloatProperty(
-        name="Face Floor", default=0.05, min=1e-4, max=0.5, subtype="FACTOR",
-        description="Smallest face area on the optimized sphere maps, as a share of the mean "
-                    "(larger keeps thin parts from collapsing, smaller follows the shape closer)")
+    automatic: bpy.props.BoolProperty(
+        name="Automatic Matching", default=True,
+        description="Choose the correspondence among automatic candidates (extremity tips, registrations, "
+                    "feature points, none) by the distortion each makes; off: only your pins and the "
+                    "objects' placement decide")
+    use_preview: bpy.props.BoolProperty(
+        name="Use Previewed Pairs", default=True,
+        description="Use the automatic pairs of Preview Matches for these two objects, as edited, instead "
+                    "of choosing again (your pins are always used)")
 
     def invoke(self, context, event):
         if not self.properties.is_property_set("frame_start"):
@@ -243,24 +433,15 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, bpy.types.Operator):
         if self.frame_end <= self.frame_start:
             raise UserError("End Frame must come after Start Frame")
         source, target = two_objects(context)
+        pins, pairs = constraints(context, source, target, use_pairs=self.use_preview and self.automatic)
         VA, FA, tri_poly, tri_loops = _arrays(context, source)
         VB, FB, _, _ = _arrays(context, target)
-        options = {"features": self.use_features, "epsilon": self.epsilon}
-        # The source's start is native.morph's own choice (the conformal map,
-        # or the relaxed radial projection where that squeezes long parts),
-        # so a cached conformal map is only reused for the target.
-        cached = sphere_cache.get(sphere_cache.key(VB, FB, "conformal"))
-        if cached is not None:  # Sphere Map just ran on the target's geometry
-            options["sphere_b"] = cached
-        matches = stored_matches(context, source, target) if self.use_preview else None
-        if matches is not None:
-            pairs = np.array([(p.vertex_a, p.vertex_b) for p in matches.pairs if not p.pin], dtype=np.int32)
-            pins = np.array([(p.vertex_a, p.vertex_b) for p in matches.pairs if p.pin], dtype=np.int32)
-            options["pairs"] = pairs.reshape(-1, 2)
-            options["pins"] = pins.reshape(-1, 2)
+        options = dict(self.correspondence_options(), automatic=self.automatic, pins=pins)
+        if pairs is not None:
+            options["pairs"] = pairs
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": tri_poly, "tri_loops": tri_loops,
-                 "previewed": matches is not None}
+                 "previewed": pairs is not None}
         return native.morph, (VA, FA, VB, FB), options, state
 
     def finish(self, context, result, state):
@@ -277,11 +458,28 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, bpy.types.Operator):
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)
         context.view_layer.objects.active = obj
-        pins = int(np.count_nonzero(np.asarray(result.pair_is_pin)))
-        seconds = sum(t for _, t in result.timings)
-        return (f"Morph To: {obj.name}, {len(result.faces)} faces, {len(result.pairs) - pins} "
-                f"feature pairs{f' + {pins} pins' if pins else ''}, {seconds:.1f} s")
+        return morph_report(obj, result, source, target, state["previewed"])
+
+
+# The last finished Morph To in this session: {"object", "chosen", "held", "notes"}
+# (the batch CLI prints it; scripts may read it). None before the first.
+last_morph = None
+
+
+def morph_report(obj, result, source, target, previewed=False):
+    """Morph To's one-line report: the chosen candidate, what holds exactly, inside-out files, time."""
+    global last_morph
+    pins = int(np.count_nonzero(np.asarray(result.pair_is_pin)))
+    pairs = len(result.pairs) - pins
+    chosen = result.candidates[result.chosen]
+    how = "previewed pairs" if previewed else "chosen"
+    held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
+    seconds = result.timings[-1][1] if result.timings else 0.0
+    notes = inside_out_note(result, source, target)
+    last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
+    return (f"Morph To: {obj.name}, {len(result.faces)} faces; {how} {candidate_line(chosen)}; {held}"
+            + "".join(f"; {n}" for n in notes) + f"; {seconds:.1f} s")
 
 
 classes = (PARAMORPH_OT_preview_matches, PARAMORPH_OT_add_pin, PARAMORPH_OT_remove_pair,
-           PARAMORPH_OT_clear_matches, PARAMORPH_OT_morph_to)
+           PARAMORPH_OT_clear_pins, PARAMORPH_OT_clear_matches, PARAMORPH_OT_morph_to)

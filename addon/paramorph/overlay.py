@@ -1,9 +1,11 @@
 """Viewport overlay: the active mesh's regions as translucent colours,
 region borders as lines and feature points as dots, drawn by a `gpu` draw
 handler from the "paramorph_region" and "paramorph_feature_point"
-attributes; while a match preview is on (Preview Matches), the regions of
-its two objects and their feature pairs. Shader names are the plain built-ins that exist from Blender 3.4
-to 5.x (no bgl, no 3D_ prefixed names)."""
+attributes; the morph's pins and previewed pairs (a dot on each object
+joined by a line; pins white and larger); and, while Pick Pins runs, the
+vertex under the mouse and the half-picked pin. Shader names are the plain
+built-ins that exist from Blender 3.4 to 5.x (no bgl, no 3D_ prefixed
+names)."""
 import bpy
 import gpu
 import numpy as np
@@ -156,10 +158,44 @@ def _draw_matches(matches):
     gpu.state.point_size_set(1.0)
 
 
+HOVER_COLOR = (1.0, 0.85, 0.1, 1.0)     # the vertex under the mouse
+PENDING_COLOR = (1.0, 0.45, 0.05, 1.0)  # the half-picked pin
+OUTLINE_COLOR = (0.0, 0.0, 0.0, 1.0)
+
+
+def _draw_picking(marks):
+    """Pick Pins: the pending half (orange) joined to the vertex under the
+    mouse (yellow) when that is on the other object; both ringed in black."""
+    shader = gpu.shader.from_builtin("UNIFORM_COLOR")
+    gpu.state.depth_test_set("NONE")
+    shader.bind()
+    hover, pending = marks["hover"], marks["pending"]
+    if hover is not None and pending is not None and marks["hover_side"] != marks["pending_side"]:
+        gpu.state.line_width_set(2.0)
+        shader.uniform_float("color", PENDING_COLOR)
+        batch_for_shader(shader, "LINES", {"pos": np.array([pending, hover], dtype=np.float32)}).draw(shader)
+        gpu.state.line_width_set(1.0)
+    for position, color, size in ((pending, PENDING_COLOR, 14.0), (hover, HOVER_COLOR, 12.0)):
+        if position is None:
+            continue
+        batch = batch_for_shader(shader, "POINTS", {"pos": np.array([position], dtype=np.float32)})
+        for ring, ring_color in ((size + 6.0, OUTLINE_COLOR), (size, color)):
+            gpu.state.point_size_set(ring)
+            shader.uniform_float("color", ring_color)
+            batch.draw(shader)
+    gpu.state.point_size_set(1.0)
+
+
 def draw():
+    from . import ops_pins  # imports this module: import at draw time
+
     context = bpy.context
     scene = context.scene
-    if scene is None or not getattr(scene, "paramorph", None) or not scene.paramorph.show_overlay:
+    if scene is None or not getattr(scene, "paramorph", None):
+        return
+    picker = ops_pins.active
+    show = scene.paramorph.show_overlay
+    if not show and picker is None:
         return
     shown = []
     matches = getattr(scene, "paramorph_matches", None)
@@ -171,11 +207,18 @@ def draw():
         shown.append(obj)
     gpu.state.blend_set("ALPHA")
     gpu.state.depth_test_set("LESS_EQUAL")
-    for obj in shown:
+    for obj in shown if show else ():
         if obj.type == "MESH" and obj.mode != "EDIT" and obj.paramorph_regions > 0 and obj.visible_get():
             _draw_regions(obj)
     if previewing and len(matches.pairs):
         _draw_matches(matches)
+    if picker is not None:
+        try:
+            marks = picker.marks()
+        except ReferenceError:  # its objects were deleted under it
+            marks = None
+        if marks is not None:
+            _draw_picking(marks)
     gpu.state.depth_test_set("NONE")
     gpu.state.blend_set("NONE")
 

@@ -64,17 +64,23 @@ class PARAMORPH_PT_main(bpy.types.Panel):
     def draw_morph(context, layout):
         col = layout.column(align=True)
         col.label(text="Morph (select source, then target)")
-        col.operator("paramorph.preview_matches")
+        col.operator("paramorph.pick_pins", icon="PINNED")
+        col.operator("paramorph.preview_matches", icon="VIEWZOOM")
         matches = context.scene.paramorph_matches
         if matches.source is not None and matches.target is not None:
-            col.label(text=f"{matches.source.name} → {matches.target.name}: {len(matches.pairs)} pairs")
+            pins = sum(p.pin for p in matches.pairs)
+            col.label(text=f"{matches.source.name} → {matches.target.name}")
+            col.label(text=f"{pins} pin{'' if pins == 1 else 's'}, {len(matches.pairs) - pins} "
+                           f"automatic pair{'' if len(matches.pairs) - pins == 1 else 's'}")
+            draw_candidates(context, col, matches)
             col.template_list("PARAMORPH_UL_match_pairs", "", matches, "pairs", matches, "pair_index", rows=4)
             row = col.row(align=True)
-            row.operator("paramorph.add_pin", icon="PINNED")
+            row.operator("paramorph.add_pin", text="Add Pin", icon="ADD")
             row.operator("paramorph.remove_pair", text="Remove", icon="REMOVE")
-            row.operator("paramorph.clear_matches", text="", icon="X")
+            row = col.row(align=True)
+            row.operator("paramorph.clear_pins", text="Clear Pins", icon="UNPINNED")
+            row.operator("paramorph.clear_matches", text="Clear", icon="X")
         col.operator("paramorph.morph_to")
-
 
     @staticmethod
     def draw_paste(context, layout):
@@ -90,13 +96,63 @@ class PARAMORPH_PT_main(bpy.types.Panel):
                   icon="PASTEDOWN" if last is not None else "INFO")
 
 
+def _wrapped(layout, text, width, icon="BLANK1"):
+    for line in textwrap.wrap(text, width):
+        layout.label(text=line, icon=icon)
+
+
+def _score_text(candidate):
+    return "rejected" if candidate.rejected else f"{candidate.score:.3g}"
+
+
+def draw_candidates(context, layout, matches):
+    """The chosen candidate ("Chosen: extremities", its score beside what no
+    pairs scored, and what it paired) and, in a box that opens, every
+    candidate with its score, or why it was rejected, so the user sees
+    whether the automatic pairs beat no pairs."""
+    if not len(matches.candidates):
+        return
+    # Characters a sidebar line holds (labels are cut in the middle, not wrapped).
+    width = max(16, int(context.region.width / (7.0 * context.preferences.system.ui_scale)) - 5) \
+        if context.region is not None else 40
+    chosen = next((c for c in matches.candidates if c.chosen), None)
+    none = next((c for c in matches.candidates if c.kind == "none"), None)
+    if chosen is not None:
+        layout.label(text=f"Chosen: {chosen.kind}", icon="CHECKMARK")
+        versus = f" (none: {_score_text(none)})" if none is not None and chosen.kind != "none" else ""
+        layout.label(text=f"score {_score_text(chosen)}{versus}", icon="BLANK1")
+        _wrapped(layout, chosen.detail, width)
+    box = layout.box()
+    box.prop(matches, "show_candidates", emboss=False, text=f"Candidates ({len(matches.candidates)})",
+             icon="TRIA_DOWN" if matches.show_candidates else "TRIA_RIGHT")
+    if not matches.show_candidates:
+        return
+    column = box.column(align=True)
+    for c in matches.candidates:
+        split = column.split(factor=0.65, align=True)
+        split.label(text=c.kind, icon="CHECKMARK" if c.chosen else ("CANCEL" if c.rejected else "DOT"))
+        split.label(text=_score_text(c))
+        _wrapped(column, c.detail + (f"; rejected: {c.rejected}" if c.rejected else ""), width)
+
+
 class PARAMORPH_UL_match_pairs(bpy.types.UIList):
-    """One previewed pair per row: source vertex, target vertex, score; pins marked."""
+    """One row per pin or pair: pins (the pin icon and their number, as Morph
+    To's messages number them: "pin 0") with editable source and target
+    vertex indices; the automatic pairs read-only with the candidate they came
+    from."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
-        row = layout.row(align=True)
-        row.label(text=f"{item.vertex_a} ↔ {item.vertex_b}", icon="PINNED" if item.pin else "DOT")
-        row.label(text="pin" if item.pin else f"{item.score:.3f}")
+        if item.pin:
+            number = sum(p.pin for p in data.pairs[:index])
+            split = layout.split(factor=0.22, align=True)
+            split.label(text=str(number), icon="PINNED")
+            row = split.row(align=True)
+            row.prop(item, "vertex_a", text="", emboss=True)
+            row.prop(item, "vertex_b", text="", emboss=True)
+        else:
+            split = layout.split(factor=0.6, align=True)
+            split.label(text=f"{item.vertex_a} → {item.vertex_b}", icon="DOT")
+            split.label(text=item.kind or "pair")
 
 
 class PARAMORPH_OT_select_object(bpy.types.Operator):

@@ -8,6 +8,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
 #include "morph/radial_projection.h"
 
@@ -19,17 +20,14 @@ double angle(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-/// Weighted Kabsch: the rotation R (applied to row vectors as p R) that
-/// best turns `from` onto `to`; identity when the points do not pin a
-/// rotation down (fewer than 3, or all on one great circle through a pole).
-Eigen::Matrix3d best_rotation(const MatrixX3d& from, const MatrixX3d& to, const VectorXd& w) {
+/// Weighted Kabsch (best_rotation), but the identity where the points do not
+/// pin a rotation down (fewer than 3, or all on one great circle through a pole).
+Eigen::Matrix3d pinned_rotation(const MatrixX3d& from, const MatrixX3d& to, const VectorXd& w) {
   if (from.rows() < 3) return Eigen::Matrix3d::Identity();
   const Eigen::Matrix3d covariance = from.transpose() * w.asDiagonal() * to;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  if (svd.singularValues()[1] < 1e-9 * svd.singularValues()[0]) return Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  flip(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * flip * svd.matrixV().transpose();
+  const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::Matrix3d>(covariance).singularValues();
+  if (singular[1] < 1e-9 * singular[0]) return Eigen::Matrix3d::Identity();
+  return best_rotation(from, to, w);
 }
 
 /// Gaussian RBF interpolation of the offsets `to - from` at the points
@@ -102,7 +100,7 @@ AlignSphereResult align_sphere_map(const MatrixX3d& V, const MatrixX3i& F, const
   for (Index i = 0; i < pairs; ++i) paired.row(i) = base.row(vertices[i]);
 
   AlignSphereResult result;
-  result.rotation = best_rotation(paired, goal, w);
+  result.rotation = pinned_rotation(paired, goal, w);
   base = base * result.rotation;
   paired = paired * result.rotation;
   for (Index i = 0; i < pairs; ++i) result.mean_error_rotated += angle(paired.row(i), goal.row(i));

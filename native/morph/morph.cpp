@@ -2,36 +2,29 @@
 
 #include <chrono>
 #include <cmath>
-#include <exception>
-#include <functional>
-#include <utility>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <map>
+#include <optional>
+#include <utility>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
-#include "morph/optimization_start.h"
-#include "morph/radial_projection.h"
-#include "morph/registered_pairs.h"
-#include "param/spherical/sphere_map.h"
+#include "mesh/validate.h"
+#include "morph/correspondence_frame.h"
+#include "morph/map_distortion.h"
+#include "morph/flow_sphere_map.h"
+#include "param/spherical/map_through_proxy.h"
+#include "param/spherical/relax_sphere_map.h"
+#include "param/spherical/untangle_sphere_map.h"
 
 namespace paramorph::morph {
 
 namespace {
 
-/// One stage: its own 0..1 progress inside [lo, hi] of the caller's, and
-/// its wall time in `timings`.
-template <typename Work>
-auto stage(const std::string& name, double lo, double hi, Progress* parent,
-           std::vector<std::pair<std::string, double>>& timings, Work&& work) {
-  const auto started = std::chrono::steady_clock::now();
-  auto result = run_stage(name, lo, hi, parent, std::forward<Work>(work));
-  timings.emplace_back(name, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-  return result;
-}
-
-double angle(const Eigen::RowVector3d& a, const Eigen::RowVector3d& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+using Pairs = std::vector<std::array<Index, 2>>;
 
 /// Position on the mesh of every merged vertex from its face and central
 /// barycentric coordinates.
@@ -44,144 +37,211 @@ MatrixX3d positions_on(const MatrixX3d& V, const MatrixX3i& F, const VectorXi& f
   return out;
 }
 
-void check_pairs(const std::vector<std::array<Index, 2>>& pairs, Index na, Index nb, const char* what) {
-  for (const auto& p : pairs)
-    PM_REQUIRE(p[0] >= 0 && p[0] < na && p[1] >= 0 && p[1] < nb, InvalidInputError, what, " (", p[0],
+/// Range and uniqueness: a vertex of A or of B in two pins (or pairs) is a
+/// contradiction, not a typo to guess about.
+void check_pairs(const Pairs& pairs, Index na, Index nb, const char* what) {
+  std::map<Index, std::size_t> of_a, of_b;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto& p = pairs[k];
+    PM_REQUIRE(p[0] >= 0 && p[0] < na && p[1] >= 0 && p[1] < nb, InvalidInputError, what, " ", k, " (", p[0],
                ", ", p[1], ") is out of range: A has ", na, " vertices, B ", nb);
+    const auto [a, new_a] = of_a.emplace(p[0], k);
+    PM_REQUIRE(new_a, ConstraintError, what, "s ", a->second, " and ", k, " both pin vertex ", p[0], " of A");
+    const auto [b, new_b] = of_b.emplace(p[1], k);
+    PM_REQUIRE(new_b, ConstraintError, what, "s ", b->second, " and ", k, " both pin vertex ", p[1], " of B");
+  }
+}
+
+/// A model's map read off its proxy's map (the proxy's map itself when the
+/// model was small enough to be its own proxy), untangled; nothing when
+/// folds remain (the caller decides whether that is an error or a reason to
+/// try another way).
+std::optional<MatrixX3d> read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
+                                            const MatrixX3i& proxy_F, const MatrixX3d& proxy_map) {
+  const bool own = proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F;
+  MatrixX3d X = own ? proxy_map : spherical::map_through_proxy(V, proxy_V, proxy_F, proxy_map);
+  const spherical::SphereUntangleResult untangled =
+      spherical::untangle_sphere_map(V, F, X, std::vector<char>(std::size_t(V.rows()), 0));
+  if (untangled.folded > 0) return std::nullopt;
+  // Where the model turns against its proxy (thin tips) the map can keep
+  // hair-thin faces spanning a sixth of the sphere: relax them.
+  if (!own || untangled.folded_before > 0) spherical::relax_poor_regions(V, F, X, {});
+  return X;
+}
+
+struct Prepared {
+  CorrespondenceFrame a, b;
+  Pairs pins;
+};
+
+Prepared prepare(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                 const MorphOptions& o) {
+  for_mesh("A", [&] { validate_arrays(VA, FA); require_closed_genus0(validate(TriMesh(VA, FA))); return 0; });
+  for_mesh("B", [&] { validate_arrays(VB, FB); require_closed_genus0(validate(TriMesh(VB, FB))); return 0; });
+  check_pairs(o.pins, VA.rows(), VB.rows(), "pin");
+  if (o.pairs) check_pairs(*o.pairs, VA.rows(), VB.rows(), "pair");
+  return {correspondence_frame(VA, FA), correspondence_frame(VB, FB), o.pins};
+}
+
+CorrespondenceOptions candidate_options(const MorphOptions& o) {
+  CorrespondenceOptions c = o.correspondence;
+  if (!o.automatic) c.extremities = c.registration = c.features = false;
+  return c;
 }
 
 }  // namespace
 
+MorphCorrespondence morph_correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB,
+                                         const MatrixX3i& FB, const MorphOptions& o, Progress* progress) {
+  const Prepared p = prepare(VA, FA, VB, FB, o);
+  MorphCorrespondence out;
+  out.inside_out_a = p.a.inside_out;
+  out.inside_out_b = p.b.inside_out;
+  out.correspondence = correspondence(p.a.V, p.a.F, p.b.V, p.b.F, p.pins, o.pairs, candidate_options(o), progress);
+  return out;
+}
+
 Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
             const MorphOptions& o, Progress* progress) {
-  check_pairs(o.pins, VA.rows(), VB.rows(), "pin");
-  if (o.pairs) check_pairs(*o.pairs, VA.rows(), VB.rows(), "pair");
-  PM_REQUIRE(std::isfinite(o.pin_weight) && o.pin_weight > 0 && std::isfinite(o.pin_radius) &&
-                 o.pin_radius >= 0, InvalidInputError, "pin_weight must be positive and pin_radius >= 0");
-  PM_REQUIRE(std::isfinite(o.pair_distance) && o.pair_distance >= 0 && std::isfinite(o.registered_warp_width) &&
-                 o.registered_warp_width >= 0 && o.registered_warp_width < M_PI,
-             InvalidInputError, "pair_distance must be >= 0 and registered_warp_width in [0, pi)");
-  Morph m;
   if (progress) progress->report(0.0, "morph");
+  const auto started = std::chrono::steady_clock::now();
+  const Prepared p = prepare(VA, FA, VB, FB, o);
+  Morph m;
+  m.inside_out_a = p.a.inside_out;
+  m.inside_out_b = p.b.inside_out;
 
-  // 1. Sphere maps; A's optimized for morphing, from optimization_start
-  // (the conformal map, or the relaxed radial projection where that squeezes).
-  auto sphere_of = [&](const MatrixX3d& V, const MatrixX3i& F, const std::optional<MatrixX3d>& given,
-                       const char* which, bool for_optimization, double lo, double hi) {
-    if (given) return *given;
-    return for_mesh(which, [&] {
-      return stage(std::string("sphere map ") + which, lo, hi, progress, m.timings, [&](Progress* p) {
-        return for_optimization ? optimization_start(V, F, p) : spherical::sphere_map(V, F, {}, p).positions;
-      });
-    });
+  // 2. The correspondence.
+  Correspondence c = run_stage("correspondence", 0.0, 0.7, progress, [&](Progress* window) {
+    return correspondence(p.a.V, p.a.F, p.b.V, p.b.F, p.pins, o.pairs, candidate_options(o), window);
+  });
+  m.timings = c.timings;
+  m.candidates = c.candidates;
+
+  // 3. The two maps. A's is its proxy's map read at its vertices; B's is its
+  // own map carried by the chosen correspondence's flow, from where its
+  // pinned vertices (and the winner's samples) are on it to where their
+  // partners are on A's map. Riding on their points, the pinned vertices end
+  // exactly on their partners. Where B's map cannot meet the best candidate
+  // without folding, the next best is tried.
+  auto clock = std::chrono::steady_clock::now();
+  auto mark = [&](const char* stage) {
+    m.timings.emplace_back(stage, std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count());
+    clock = std::chrono::steady_clock::now();
   };
-  const MatrixX3d start_a = sphere_of(VA, FA, o.sphere_a, "A", true, 0.0, 0.08);
-  const MatrixX3d start_b = sphere_of(VB, FB, o.sphere_b, "B", false, 0.08, 0.16);
-
-  OptimizeSphereOptions optimize;
-  optimize.epsilon = o.epsilon;
-  optimize.max_iterations = o.max_iterations;
   m.sphere_a = for_mesh("A", [&] {
-    return stage("optimize A", 0.16, 0.45, progress, m.timings, [&](Progress* p) {
-      return optimize_sphere_map(VA, FA, start_a, optimize, p).positions;
-    });
+    const std::optional<MatrixX3d> read = read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a);
+    PM_REQUIRE(read, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
+    return *read;
   });
-
-  // 2. Pairs: pins, then the automatic (or given) pairs away from them.
-  for (const auto& pin : o.pins) {
-    m.pairs.push_back(pin);
-    m.pair_is_pin.push_back(true);
-    m.pair_scores.push_back(0.0);
-  }
-  std::vector<std::array<Index, 2>> automatic;
-  std::vector<double> scores;
-  std::optional<MatrixX3d> registered_target;  // B's targets from the registration
-  if (o.features) {
-    MorphPairs matched = stage("match features", 0.45, 0.58, progress, m.timings, [&](Progress* p) {
-      return morph_pairs(VA, FA, VB, FB, o.match, o.register_surfaces, o.registration, o.pair_distance,
-                         o.max_fold_share, p);
-    });
-    m.match = std::move(matched.match);
-    m.registration = std::move(matched.registration);
-    automatic = std::move(matched.pairs.pairs);
-    scores = std::move(matched.pairs.scores);
-    m.registration_fold_share = matched.fold_share;
-    if (m.registration) {
-      // 3. B's targets: A's optimized map at the closest points of A to the registered B.
-      registered_target =
-          positions_on(m.sphere_a, FA, matched.on_a.face, matched.on_a.bary).rowwise().normalized();
+  if (progress) progress->report(0.75, "sphere map of B");
+  std::optional<MatrixX3d> own_b;  // B's own map, read only if a short flow stalls
+  std::string first_failure;
+  int attempt = 0;
+  for (const Realization& real : c.ranked) {
+    // Attempt i reports in [a_i, a_i+1], a_i = 0.85 - 0.1 / 2^i: forward
+    // only, however many candidates are tried.
+    const double lo = 0.85 - 0.1 * std::pow(0.5, attempt), mid = 0.85 - 0.075 * std::pow(0.5, attempt),
+                 hi = 0.85 - 0.05 * std::pow(0.5, attempt);
+    ++attempt;
+    if (progress) progress->report(lo, "sphere map of B");
+    std::vector<std::array<Index, 2>> held = p.pins;
+    held.insert(held.end(), real.pairs.begin(), real.pairs.end());
+    const Index count = Index(held.size());
+    std::vector<std::pair<Index, Index>> riders;
+    MatrixX3d to(count, 3);
+    for (Index k = 0; k < count; ++k) {
+      to.row(k) = m.sphere_a.row(held[std::size_t(k)][0]);
+      riders.emplace_back(held[std::size_t(k)][1], k);
     }
-  }
-  // Pairs given (e.g. edited in Preview Matches) replace the automatic ones;
-  // the registration's targets still apply.
-  if (o.pairs) {
-    automatic = *o.pairs;
-    scores.assign(automatic.size(), 0.0);
-  }
-  for (std::size_t i = 0; i < automatic.size(); ++i) {
-    bool clashes = false;
-    for (const auto& pin : o.pins)
-      clashes = clashes || pin[0] == automatic[i][0] || pin[1] == automatic[i][1] ||
-                angle(m.sphere_a.row(pin[0]), m.sphere_a.row(automatic[i][0])) < o.pin_radius ||
-                angle(start_b.row(pin[1]), start_b.row(automatic[i][1])) < o.pin_radius;
-    if (clashes) continue;
-    m.pairs.push_back(automatic[i]);
-    m.pair_is_pin.push_back(false);
-    m.pair_scores.push_back(scores[i]);
-  }
-
-  // 4. B's map: its registered targets, or its own radial projection
-  // (turned by the feature match's rotation when there is one), bent
-  // towards A's paired features.
-  std::vector<Index> paired_b;
-  MatrixX3d targets(Index(m.pairs.size()), 3);
-  VectorXd weights(Index(m.pairs.size()));
-  for (std::size_t i = 0; i < m.pairs.size(); ++i) {
-    paired_b.push_back(m.pairs[i][1]);
-    targets.row(Index(i)) = m.sphere_a.row(m.pairs[i][0]);
-    weights[Index(i)] = m.pair_is_pin[i] ? o.pin_weight : 1.0;
-  }
-  AlignSphereOptions align = o.align;
-  align.epsilon = o.epsilon;
-  align.max_iterations = o.max_iterations;
-  if (registered_target) {
-    align.target = *registered_target;
-    if (align.warp_width == 0) align.warp_width = o.registered_warp_width;
-  } else if (m.match) {
-    align.target = radial_projection(VB, FB) * m.match->rotation.transpose();
-  }
-  const AlignSphereResult aligned = for_mesh("B", [&] {
-    return stage("align B", 0.55, 0.88, progress, m.timings, [&](Progress* p) {
-      return align_sphere_map(VB, FB, start_b, paired_b, targets, weights, align, p);
+    // First the winner's own proxy map read at B's vertices (its pins and
+    // pairs already at their exact points, up to the proxy's interpolation),
+    // nudged the last stretch by a short flow; where that folds or stalls,
+    // B's own map carried the whole way.
+    SphereFlowResult carried;
+    SphereFlowOptions flow;
+    flow.model = &p.b.V;
+    const std::optional<MatrixX3d> read = for_mesh("B", [&] {
+      return read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, real.warped_b);
     });
-  });
-  m.sphere_b = aligned.positions;
-  m.mean_pair_error = aligned.mean_error;
+    if (read) {
+      MatrixX3d from(count, 3);
+      for (Index k = 0; k < count; ++k) from.row(k) = read->row(held[std::size_t(k)][1]);
+      carried = run_stage("carrying B's map", lo, mid, progress, [&](Progress* window) {
+        return flow_sphere_map(p.b.F, *read, from, to, riders, flow, ProgressWindow(window));
+      });
+    }
+    if (carried.reached < 1) {
+      if (!own_b) own_b = for_mesh("B", [&] {
+        const std::optional<MatrixX3d> own = read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b);
+        PM_REQUIRE(own, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
+        return *own;
+      });
+      const Index shaped = real.shape_a.rows();
+      MatrixX3d all_from(count + shaped, 3), all_to(count + shaped, 3);
+      for (Index k = 0; k < count; ++k) all_from.row(k) = own_b->row(held[std::size_t(k)][1]);
+      all_to.topRows(count) = to;
+      all_from.bottomRows(shaped) = real.shape_b;
+      all_to.bottomRows(shaped) = real.shape_a;
+      const Eigen::Matrix3d turn = all_from.rows() ? best_rotation(all_from, all_to) : real.rotation;
+      carried = run_stage("carrying B's map", mid, hi, progress, [&](Progress* window) {
+        return flow_sphere_map(p.b.F, *own_b * turn, all_from * turn, all_to, riders, flow, ProgressWindow(window));
+      });
+    }
+    if (carried.reached < 1) {
+      std::vector<Index> named;
+      for (const Index j : carried.blocking)
+        if (j < Index(p.pins.size())) named.push_back(j);
+      const std::string why = detail::concat(
+          "its pins and pairs cannot all be met on the model without folding its map (stalled ",
+          int(100 * carried.reached), "% of the way", named.empty() ? std::string() : ", near pins " + format_indices(named),
+          ")");
+      if (first_failure.empty()) first_failure = why;
+      m.candidates[std::size_t(real.candidate)].rejected = why;
+      continue;
+    }
+    m.chosen = real.candidate;
+    m.sphere_b = carried.positions;
+    for (Index k = 0; k < count; ++k) m.sphere_b.row(held[std::size_t(k)][1]) = m.sphere_a.row(held[std::size_t(k)][0]);
+    for (const auto& pin : p.pins) m.pairs.push_back(pin), m.pair_is_pin.push_back(true);
+    for (const auto& pair : real.pairs) m.pairs.push_back(pair), m.pair_is_pin.push_back(false);
+    break;
+  }
+  PM_REQUIRE(m.sphere_b.rows() == p.b.V.rows(), ConstraintError, "mesh B: ", first_failure,
+             "; pins very close together on one mesh and further apart on the other, or crossing each other's "
+             "way, are the usual cause");
+  mark("sphere maps of the models");
 
-  // 5. Overlay, 6. positions on both meshes.
-  m.merged = stage("overlay", 0.88, 0.98, progress, m.timings, [&](Progress* p) {
-    return overlay(m.sphere_a, FA, m.sphere_b, FB, o.overlay, p);
+  // 4. Overlay, 5. positions on both meshes as placed.
+  m.merged = run_stage("overlay", 0.85, 0.97, progress, [&](Progress* window) {
+    return overlay(m.sphere_a, p.a.F, m.sphere_b, p.b.F, o.overlay, window);
   });
-  m.source = positions_on(VA, FA, m.merged.face_a, m.merged.bary_a);
-  m.target = positions_on(VB, FB, m.merged.face_b, m.merged.bary_b);
+  mark("overlay");
+  m.source = positions_on(VA, p.a.F, m.merged.face_a, m.merged.bary_a);
+  m.target = positions_on(VB, p.b.F, m.merged.face_b, m.merged.bary_b);
+  m.distortion = map_distortion(p.a.V, p.a.F, m.sphere_a, p.b.V, p.b.F, m.sphere_b).mean;
+  mark("positions");
+  m.timings.emplace_back("total", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   if (progress) progress->report(1.0, "morph");
   return m;
 }
 
-Eigen::MatrixXd carry_corner_values(const MergedTopology& merged, int side, const Eigen::MatrixXd& values) {
+Eigen::MatrixXd carry_corner_values(const Morph& morph, int side, const Eigen::MatrixXd& values) {
   PM_REQUIRE(side == 0 || side == 1, InvalidInputError, "side is 0 (A) or 1 (B), got ", side);
+  const MergedTopology& merged = morph.merged;
   const VectorXi& source = side == 0 ? merged.source_face_a : merged.source_face_b;
   const auto& bary = side == 0 ? merged.corner_bary_a : merged.corner_bary_b;
+  const bool turned = side == 0 ? morph.inside_out_a : morph.inside_out_b;
   const Index faces_in = source.size() ? source.maxCoeff() + 1 : 0;
   PM_REQUIRE(values.rows() % 3 == 0 && values.rows() / 3 >= faces_in && values.allFinite(),
              InvalidInputError, "corner values need 3 finite rows per face of the mesh (",
              values.rows(), " rows given)");
+  // The faces of an inside-out file were turned (corners 1 and 2 swapped).
+  auto row = [&](Index f, int c) { return values.row(3 * f + (turned && c ? 3 - c : c)); };
   Eigen::MatrixXd out(3 * source.size(), values.cols());
   for (Index k = 0; k < source.size(); ++k)
     for (int c = 0; c < 3; ++c)
-      out.row(3 * k + c) = bary(k, 3 * c) * values.row(3 * source[k]) +
-                           bary(k, 3 * c + 1) * values.row(3 * source[k] + 1) +
-                           bary(k, 3 * c + 2) * values.row(3 * source[k] + 2);
+      out.row(3 * k + c) = bary(k, 3 * c) * row(source[k], 0) + bary(k, 3 * c + 1) * row(source[k], 1) +
+                           bary(k, 3 * c + 2) * row(source[k], 2);
   return out;
 }
 

@@ -1,23 +1,26 @@
-// Feature-based morphing between two genus-0 meshes of different topology
-// (thesis ch. 4, Fig. 4.3 and 4.8; DESIGN.md §4.4):
+// Morphing between two genus-0 meshes of different topology (thesis ch. 4,
+// Fig. 4.3 and 4.8; DESIGN.md §4.4; issue 16):
 //
-//   1. sphere-map both meshes (sphere_map, 4.3.2) and optimize A's map for
-//      morphing (optimize_sphere_map, 4.3.3);
-//   2. match feature regions and feature points (match_features, 4.5);
-//      user pins join the automatic pairs and win over them;
-//   3. with features: register B onto A in 3D (register_surfaces: polynomial
-//      point-to-plane ICP from the match's similarity and from the objects'
-//      own placement); B's targets are A's map at the closest points of A
-//      to the registered B, and the pairs are the mutually nearest feature
-//      points after registration (registered_pairs) — unless the carried map
-//      folds (shapes too unlike for a 3D fit: max_fold_share), then B's
-//      radial projection and the match's pairs;
-//   4. optimize B's map towards its targets (its own radial projection
-//      without features) and A's paired features (align_sphere_map,
-//      (4.12) with the fold constraints);
-//   5. overlay the two maps into one merged topology (overlay, 4.4);
-//   6. every merged vertex's position on A and on B from its barycentric
-//      coordinates: the source and target of a linear morph (4.4).
+//   1. each model is put in its correspondence frame: turned outward if its
+//      file is inside-out, centred and scaled to unit area
+//      (correspondence_frame); the interpolation (step 5) uses the models as
+//      they are placed;
+//   2. the correspondence (morph/correspondence): on proxies of a few
+//      thousand faces with balanced sphere maps, candidates (none, pairings
+//      of extremity tips, 3D registrations, the thesis' feature points) are
+//      scored by the distortion of the correspondence they make, and the
+//      best is used; the user's pins hold in every candidate;
+//   3. A's sphere map is its proxy's map read at every vertex (untangled
+//      where the model turns against the proxy's faces, poor regions
+//      relaxed); B's map is the winner's map of B's proxy read the same way,
+//      then carried by a short checked flow (flow_sphere_map) the last
+//      stretch onto the exact points: its pinned vertices ride on their
+//      points, so the pinned vertex of A lands exactly on its partner of B
+//      at t = 1. Where that flow stalls, B's own map is carried the whole
+//      way instead; where that stalls too, the next best candidate is tried;
+//   4. the two maps are overlaid into one merged topology (overlay, 4.4);
+//   5. every merged vertex's position on A and on B from its barycentric
+//      coordinates: the source and target of the morph (4.4).
 #pragma once
 
 #include <array>
@@ -27,82 +30,67 @@
 #include <vector>
 
 #include "common/progress.h"
-#include "features/match_features.h"
 #include "mesh/types.h"
-#include "morph/align_sphere_map.h"
-#include "morph/optimize_sphere_map.h"
-#include "morph/register_surfaces.h"
+#include "morph/correspondence.h"
 #include "morph/spherical_overlay.h"
 
 namespace paramorph::morph {
 
 struct MorphOptions {
-  /// Match features automatically (4.5); off: B's map only faces A's by
-  /// the radial projections (the objects' own placement) and the pins.
-  bool features = true;
-  /// Replaces the automatic pairs when given (e.g. edited in a preview):
-  /// (vertex of A, vertex of B).
+  /// Automatic correspondence (step 2); off: only the pins, the given
+  /// `pairs` if any, and the models' placement decide.
+  bool automatic = true;
+  /// Pairs to use instead of the automatic candidates (e.g. edited in a
+  /// preview): (vertex of A, vertex of B), hard like the pins.
   std::optional<std::vector<std::array<Index, 2>>> pairs;
-  /// User pins (vertex of A, vertex of B): always used, weighted above the
-  /// automatic pairs, and an automatic pair that shares a vertex with a pin
-  /// or lies within `pin_radius` of one on either map is dropped.
+  /// User pins (vertex of A, vertex of B): hard constraints, exact on the
+  /// maps, so the pinned vertex of A lands on its partner at t = 1.
   std::vector<std::array<Index, 2>> pins;
-  double pin_weight = 4.0;     ///< pin weight relative to an automatic pair
-  double pin_radius = 0.15;    ///< radians on the sphere
-  double epsilon = 0.05;       ///< fold bound of both optimized maps
-  int max_iterations = 200;
-  features::MatchOptions match;
-  /// With features: register B onto A in 3D and take B's targets and (unless
-  /// `pairs` are given) the pairs from the registration (step 3). Off: B's
-  /// radial projection turned by the match's rotation, and the match's
-  /// pairs after region-centroid alignment.
-  bool register_surfaces = true;
-  RegisterOptions registration;
-  /// Largest distance of a feature pair after registration, as a share of
-  /// A's bounding-box diagonal.
-  double pair_distance = 0.03;
-  /// The registration is used only when at most this share of B's area
-  /// comes out folded when carried onto A (carried_fold_share): otherwise
-  /// the shapes are too unlike for a 3D fit (a head into an octopus) and B's
-  /// targets are its radial projection, the pairs the match's own.
-  double max_fold_share = 0.01;
-  /// Width (radians) of align_sphere_map's warp when the targets come from
-  /// the registration and align.warp_width is 0: the targets already follow
-  /// the features, the warp only spreads the pairs' small offsets (about a
-  /// vertex spacing: feature points are vertices of two tessellations).
-  double registered_warp_width = 0.1;
-  AlignSphereOptions align;    ///< epsilon / max_iterations taken from above
+  CorrespondenceOptions correspondence;
   OverlayOptions overlay;
-  /// Fold-free sphere maps of A / B already at hand (e.g. the add-on's
-  /// cache); computed when absent.
-  std::optional<MatrixX3d> sphere_a, sphere_b;
 };
 
 struct Morph {
   MergedTopology merged;      ///< merged faces, vertices on the sphere, barycentrics
-  MatrixX3d source, target;   ///< #M by 3: each merged vertex on A and on B
-  /// The pairs used, (vertex of A, vertex of B), pins first.
+  MatrixX3d source, target;   ///< #M by 3: each merged vertex on A and on B, as placed
+  /// The pairs that hold exactly, (vertex of A, vertex of B): pins first.
   std::vector<std::array<Index, 2>> pairs;
   std::vector<bool> pair_is_pin;
-  std::vector<double> pair_scores;  ///< automatic pairs: match_features' score; pins: 0
-  MatrixX3d sphere_a, sphere_b;     ///< the two maps that were overlaid
-  std::optional<features::FeatureMatch> match;  ///< when features were matched
-  std::optional<Registration> registration;      ///< when B's registration onto A was used
-  double registration_fold_share = 0;            ///< carried_fold_share of the registration tried
-  double mean_pair_error = 0;   ///< mean angle (radians) between paired points on the two maps
+  std::vector<CorrespondenceCandidate> candidates;  ///< every candidate and its score
+  Index chosen = 0;                                 ///< the candidate used
+  MatrixX3d sphere_a, sphere_b;  ///< the two maps that were overlaid
+  /// A model's file was inside-out: its faces were turned for the
+  /// correspondence, and the merged faces face outward.
+  bool inside_out_a = false, inside_out_b = false;
+  /// Isometric distortion of the final correspondence (map_distortion of B
+  /// read on A through the two maps; 0 for an isometry).
+  double distortion = 0;
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
 };
 
 /// VA, FA / VB, FB: closed genus-0 meshes (the MeshError subclasses
-/// otherwise, naming which of the two); pins and pairs are checked
-/// (InvalidInputError). Raises Cancelled when `progress` says so.
+/// otherwise, naming which of the two). Pins and pairs: InvalidInputError
+/// for vertices out of range, ConstraintError naming the pins where a vertex
+/// is pinned twice or the pins are in mirrored order. Raises Cancelled when
+/// `progress` says so; nothing is kept then.
 Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
             const MorphOptions& options = {}, Progress* progress = nullptr);
 
+/// The correspondence morph() would choose, for a preview (Preview Matches):
+/// the same checks and candidates, without the maps and the overlay. Its
+/// pairs are on the models (not the frames').
+struct MorphCorrespondence {
+  Correspondence correspondence;
+  bool inside_out_a = false, inside_out_b = false;
+};
+MorphCorrespondence morph_correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB,
+                                         const MatrixX3i& FB, const MorphOptions& options = {},
+                                         Progress* progress = nullptr);
+
 /// Per-corner values of A (side 0) or B (side 1) — UVs, colours: rows
-/// 3f + c for corner c of face f — carried to the merged faces through the
-/// corner barycentric coordinates: rows 3k + c of the result.
-Eigen::MatrixXd carry_corner_values(const MergedTopology& merged, int side,
-                                    const Eigen::MatrixXd& corner_values);
+/// 3f + c for corner c of face f of the input mesh — carried to the merged
+/// faces through the corner barycentric coordinates: rows 3k + c of the
+/// result. A side whose file was inside-out has its corners' order mended.
+Eigen::MatrixXd carry_corner_values(const Morph& morph, int side, const Eigen::MatrixXd& corner_values);
 
 }  // namespace paramorph::morph

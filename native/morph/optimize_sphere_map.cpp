@@ -10,10 +10,11 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "common/best_rotation.h"
 #include "common/errors.h"
 #include "mesh/validate.h"
 #include "morph/radial_projection.h"
-#include "morph/sphere_map_barrier.h"
+#include "param/spherical/sphere_map_barrier.h"
 #include "morph/sphere_map_nlp.h"
 
 namespace paramorph::morph {
@@ -220,14 +221,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // A sphere map is defined up to a rotation; turn the start to face the
   // targets best (weighted Kabsch) so the solvers do not spend their
   // iterations rotating. A rotation keeps every triple product.
-  {
-    const Eigen::Matrix3d covariance = start.transpose() * pull;
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-    flip(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-    const Eigen::Matrix3d rotation = svd.matrixU() * flip * svd.matrixV().transpose();
-    start = start * rotation;  // rows: v^T R, R = U diag(1,1,+-1) V^T maximises sum p_i . (R^T v_i)
-  }
+  start = start * best_rotation(start, pull);  // the weights are in pull
 
   OptimizeSphereResult result;
   // The bound: a share of the mean triple product, but never above half the
@@ -250,15 +244,15 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // A start with faces squeezed to rounding is opened first (see
   // sphere_map_barrier); if the barrier's steps run out before its path
   // begins, Ipopt starts cold from the point reached, with all its iterations.
-  SphereBarrierResult barrier;
+  spherical::SphereBarrierResult barrier;
   VectorXd multipliers;
   if (o.warm_start) {
     const double pull_scale = pull.rowwise().norm().mean();
-    SphereBarrierOptions barrier_options;
+    spherical::SphereBarrierOptions barrier_options;
     barrier_options.epsilon = result.epsilon;
     barrier_options.mu_start = mean_det * pull_scale;
     barrier_options.mu_end = 1e-4 * barrier_options.mu_start;
-    barrier = sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
+    barrier = spherical::sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
     start = barrier.positions;
     result.barrier_steps = barrier.steps;
   }

@@ -14,7 +14,7 @@
 // MUMPS) with the exact gradient, Jacobian and Hessian of the Lagrangian,
 // their sparsity built once. An evaluation at a point with a folded face is
 // refused, so Ipopt shortens the step: every accepted iterate is fold-free.
-// Ipopt starts warm from morph/sphere_map_barrier (the same problem with the
+// Ipopt starts warm from param/spherical/sphere_map_barrier (the same problem with the
 // bounds as a log barrier, followed down a short path of mu by Newton steps
 // on the spheres, after opening any faces the start squeezes to rounding).
 // The start matters: morph/optimization_start picks the conformal map or,

@@ -3,6 +3,12 @@
 
 #include <cstdint>
 
+#include <Eigen/Geometry>
+
+#include "mesh/face_neighbors.h"
+#include "mesh/tri_mesh.h"
+#include "mesh/closest_points.h"
+
 namespace paramorph::morph {
 
 namespace {
@@ -43,6 +49,28 @@ Index locate_on_sphere(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3i& 
   for (Index g = 0; g < faces; ++g)
     if (holds(X, F, ranked_vertices, g, p)) return g;
   return -1;
+}
+
+SphereLocations locate_on_sphere_map(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& points) {
+  const MatrixX3i neighbors = face_neighbors(TriMesh(X, F));
+  const ClosestPoints nearest = ClosestPointTree(X, F).query(points.rowwise().normalized());
+  SphereLocations out;
+  out.face.resize(points.rows());
+  out.bary.resize(points.rows(), 3);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < points.rows(); ++i) {
+    const Eigen::RowVector3d p = points.row(i);
+    // The walk fails only on a map that folds (a caller's input): the
+    // nearest face is then the best answer there is, never an index of -1.
+    const Index walked = locate_on_sphere(X, F, neighbors, false, {p.data(), -1}, nearest.face[i]);
+    const Index f = walked >= 0 ? walked : nearest.face[i];
+    out.face[i] = f;
+    const Eigen::RowVector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
+    Eigen::RowVector3d w(p.dot(b.cross(c)), p.dot(c.cross(a)), p.dot(a.cross(b)));
+    w = w.cwiseMax(0.0);
+    out.bary.row(i) = w.sum() > 0 ? (w / w.sum()).eval() : Eigen::RowVector3d(1, 0, 0);
+  }
+  return out;
 }
 
 }  // namespace paramorph::morph

@@ -27,4 +27,18 @@ namespace paramorph::morph {
 Index locate_on_sphere(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3i& neighbors,
                        bool ranked_vertices, const SpherePoint& p, Index start_face);
 
+/// Where points lie in a sphere map, for many points at once (a morph's
+/// correspondence read through the maps, morph/map_distortion): each point's
+/// nearest face of the inscribed polyhedron (a CGAL AABB tree) starts an
+/// exact walk (locate_on_sphere, unperturbed).
+struct SphereLocations {
+  VectorXi face;   ///< #P: a face of the map holding each point
+  MatrixX3d bary;  ///< #P by 3: its barycentric coordinates there by central projection (>= 0, sum 1)
+};
+
+/// X, F: a fold-free sphere map covering the sphere once (not checked: on
+/// a folded one a point the walk cannot place gets its nearest face);
+/// points: #P by 3 non-zero directions.
+SphereLocations locate_on_sphere_map(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& points);
+
 }  // namespace paramorph::morph

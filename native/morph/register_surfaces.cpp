@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
-#include "morph/closest_points.h"
+#include "mesh/closest_points.h"
 
 namespace paramorph::morph {
 

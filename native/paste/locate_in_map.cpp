@@ -13,7 +13,7 @@ MatrixX3d lift(const MatrixX2d& uv) {
 MapLocator::MapLocator(const MatrixX2d& uv, const MatrixX3i& F) : tree_(lift(uv), F) {}
 
 MapLocation MapLocator::locate(const MatrixX2d& Q) const {
-  morph::ClosestPoints c = tree_.query(lift(Q));
+  ClosestPoints c = tree_.query(lift(Q));
   return {std::move(c.face), std::move(c.bary), std::move(c.distance)};
 }
 

@@ -1,12 +1,12 @@
 // Point location in a planar map (thesis 5.2: the feature is looked up
 // through its parameterization): which face of a fold-free map holds a uv
 // point, and where. The map's triangles are embedded at z = 0 in CGAL's AABB
-// tree (morph/closest_points.h), so a point outside the map's domain gets the
+// tree (mesh/closest_points.h), so a point outside the map's domain gets the
 // domain's closest point, which the displacement grid uses to extend its
 // values one cell past the boundary.
 #pragma once
 
-#include "morph/closest_points.h"
+#include "mesh/closest_points.h"
 
 namespace paramorph::paste {
 
@@ -25,7 +25,7 @@ class MapLocator {
   MapLocation locate(const MatrixX2d& Q) const;
 
  private:
-  morph::ClosestPointTree tree_;
+  ClosestPointTree tree_;
 };
 
 /// X at the located points: Σ_k bary(q, k) X(F(face(q), k)), #Q by X.cols().

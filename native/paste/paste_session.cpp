@@ -10,7 +10,7 @@
 
 #include "common/errors.h"
 #include "mesh/vertex_normals.h"
-#include "morph/closest_points.h"
+#include "mesh/closest_points.h"
 #include "paste/exponential_map.h"
 #include "paste/refine_region.h"
 #include "paste/locate_in_map.h"
@@ -246,7 +246,7 @@ struct PasteSession::Impl {
   Feature feature;
   PasteOptions options;
   RegionRefiner refiner;
-  morph::ClosestPointTree tree;
+  ClosestPointTree tree;
   MatrixX3d vertex_normals;
   FeaturePlane plane;
   FeatureLookup lookup;
@@ -309,7 +309,7 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   const MatrixX2i& E = mesh.edges();
 
   // 1. Snap and frame.
-  const morph::ClosestPoints hit = tree.query(anchor.transpose());
+  const ClosestPoints hit = tree.query(anchor.transpose());
   const Index anchor_face = hit.face(0);
   const Eigen::Vector3d p = hit.points.row(0).transpose();
   const Eigen::Vector3d face_normal = (V.row(F(anchor_face, 1)) - V.row(F(anchor_face, 0)))

@@ -72,6 +72,7 @@ inline VectorXd to_vector(const py::handle& obj, const char* name) {
 inline std::vector<Index> to_indices(const py::object& obj, const char* name) {
   if (obj.is_none()) return {};
   py::array arr = py::array::ensure(obj);
+  if (arr && arr.ndim() == 1 && arr.size() == 0) return {};  // [] arrives as float64
   PM_REQUIRE(arr && (arr.dtype().kind() == 'i' || arr.dtype().kind() == 'u') && arr.ndim() == 1,
              InvalidInputError, name, " must be a 1-D integer array");
   auto data = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(arr);

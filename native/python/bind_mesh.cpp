@@ -1,8 +1,9 @@
 // validate() and require_closed_genus0() (mesh/validate.h): numpy in, a
-// read-only MeshReport or a typed MeshError out.
+// read-only MeshReport or a typed MeshError out; simplify() (mesh/simplify.h).
 #include <cmath>
 #include <string>
 
+#include "mesh/simplify.h"
 #include "mesh/validate.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
@@ -116,6 +117,22 @@ DisconnectedError (several surfaces), NotClosedError (says how many holes),
 DisconnectedError (loose vertices), NonManifoldError (inconsistent
 orientation), NotGenusZeroError (says the genus). Messages name the vertices,
 edges (as vertex pairs) or faces to fix.)doc");
+  m.def(
+      "simplify",
+      [](const py::object& V, const py::object& F, Index target_faces) {
+        const MatrixX3d v = to_vertices(V, "V");
+        const MatrixX3i f = to_faces(F, "F");
+        SimplifiedMesh out;
+        {
+          py::gil_scoped_release release;
+          out = simplify(v, f, target_faces);
+        }
+        return py::make_tuple(to_numpy(out.V), to_numpy(out.F), to_numpy(out.proxy_of));
+      },
+      py::arg("V"), py::arg("F"), py::arg("target_faces"),
+      R"doc(A coarser copy with the same topology (CGAL edge collapse, Lindstrom-Turk):
+returns (V, F, proxy_of), proxy_of[i] the proxy vertex input vertex i was
+collapsed into. The input must be a closed, manifold, oriented mesh.)doc");
 }
 
 }  // namespace paramorph::python

@@ -1,14 +1,21 @@
 // Morphing (native/morph/): optimize_sphere_map (morph/optimize_sphere_map.h),
 // align_sphere_map (morph/align_sphere_map.h), morph (morph/morph.h),
-// morph_pairs (morph/registered_pairs.h).
+// morph_correspondence (morph/morph.h), map_distortion, flow_sphere_map and the
+// sphere-map tools the morph is built from.
 
 #include <pybind11/stl.h>
 
+#include <limits>
+
 #include "morph/align_sphere_map.h"
+#include "morph/flow_sphere_map.h"
+#include "morph/map_distortion.h"
+#include "param/spherical/map_through_proxy.h"
 #include "morph/morph.h"
 #include "morph/optimization_start.h"
 #include "morph/optimize_sphere_map.h"
-#include "morph/registered_pairs.h"
+#include "morph/sphere_warp.h"
+#include "param/spherical/untangle_sphere_map.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
 #include "python/progress.h"
@@ -148,6 +155,202 @@ Returns AlignedSphereMap (positions, rotation, mean_error_rotated, mean_error,
 max_error, solve).)doc");
 }
 
+void def_map_distortion(py::module_& m) {
+  using morph::MapDistortion;
+  py::class_<MapDistortion>(m, "MapDistortion", "Result of map_distortion().")
+      .def_readonly("mean", &MapDistortion::mean, "area-weighted mean of the capped per-face distortion")
+      .def_readonly("folded_share", &MapDistortion::folded_share, "share of B's area whose image is turned over")
+      .def_readonly("capped_share", &MapDistortion::capped_share, "share of B's area at the cap")
+      .def_property_readonly("per_face", [](const MapDistortion& r) { return to_numpy(r.per_face); });
+  m.def(
+      "map_distortion",
+      [](const py::object& VA, const py::object& FA, const py::object& sphere_a, const py::object& VB,
+         const py::object& FB, const py::object& sphere_b, double cap) {
+        const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
+        const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
+        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(sphere_b, "sphere_b");
+        py::gil_scoped_release release;
+        return morph::map_distortion(va, fa, sa, vb, fb, sb, cap);
+      },
+      py::arg("VA"), py::arg("FA"), py::arg("sphere_a"), py::arg("VB"), py::arg("FB"), py::arg("sphere_b"),
+      py::kw_only(), py::arg("cap") = 10.6,
+      R"doc(Distortion of the correspondence two sphere maps make, without ground
+truth: every vertex of B read on A through the maps, every face of B compared
+with its image (both surfaces scaled to one area): (ln s1)^2 + (ln s2)^2 per
+face, capped at `cap`, turned-over images at the cap; the area-weighted mean.)doc");
+  py::class_<morph::SphereFlowResult>(m, "SphereFlow", "Result of flow_sphere_map().")
+      .def_property_readonly("positions", [](const morph::SphereFlowResult& r) { return to_numpy(r.positions); })
+      .def_readonly("reached", &morph::SphereFlowResult::reached, "share of the way travelled (1: all)")
+      .def_readonly("steps", &morph::SphereFlowResult::steps)
+      .def_readonly("halved", &morph::SphereFlowResult::halved)
+      .def_readonly("repairs", &morph::SphereFlowResult::repairs)
+      .def_readonly("blocking", &morph::SphereFlowResult::blocking,
+                    "when stalled: the points nearest the faces the smallest step would fold");
+  m.def(
+      "flow_sphere_map",
+      [](const py::object& F, const py::object& X, const py::object& from, const py::object& to,
+         const py::object& pinned_vertices) {
+        const MatrixX3i f = to_faces(F, "F");
+        const MatrixX3d x = to_vertices(X, "X"), a = to_vertices(from, "from"), b = to_vertices(to, "to");
+        std::vector<std::pair<Index, Index>> riders;
+        const std::vector<Index> pinned = to_indices(pinned_vertices, "pinned_vertices");
+        for (std::size_t k = 0; k < pinned.size(); ++k) riders.emplace_back(pinned[k], Index(k));
+        py::gil_scoped_release release;
+        return morph::flow_sphere_map(f, x, a, b, riders);
+      },
+      py::arg("F"), py::arg("X"), py::arg("from_points"), py::arg("to_points"), py::arg("pinned_vertices"),
+      R"doc(A fold-free sphere map X carried by the smooth flow taking from_points to
+to_points, in checked steps; pinned_vertices[k] rides on point k (the first
+len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
+  m.def(
+      "warp_sphere_points",
+      [](const py::object& points, const py::object& from, const py::object& to, int steps) {
+        const MatrixX3d p = to_vertices(points, "points"), a = to_vertices(from, "from"), b = to_vertices(to, "to");
+        MatrixX3d out;
+        {
+          py::gil_scoped_release release;
+          out = morph::warp_points(p, a, b, steps);
+        }
+        return to_numpy(out);
+      },
+      py::arg("points"), py::arg("from"), py::arg("to"), py::kw_only(), py::arg("steps") = 16,
+      "Unit vectors moved by the smooth flow of the sphere that takes `from` to `to` along great circles.");
+  m.def(
+      "map_through_proxy",
+      [](const py::object& V, const py::object& proxy_V, const py::object& proxy_F, const py::object& proxy_map) {
+        const MatrixX3d v = to_vertices(V, "V"), pv = to_vertices(proxy_V, "proxy_V"), pm_ = to_vertices(proxy_map, "proxy_map");
+        const MatrixX3i pf = to_faces(proxy_F, "proxy_F");
+        MatrixX3d out;
+        {
+          py::gil_scoped_release release;
+          out = spherical::map_through_proxy(v, pv, pf, pm_);
+        }
+        return to_numpy(out);
+      },
+      py::arg("V"), py::arg("proxy_V"), py::arg("proxy_F"), py::arg("proxy_map"),
+      "A sphere map of a fine mesh read off a coarse proxy's map at each vertex's closest point on the proxy.");
+  m.def(
+      "untangle_sphere_map",
+      [](const py::object& V, const py::object& F, const py::object& X, const py::object& fixed, int max_rings) {
+        const MatrixX3d v = to_vertices(V, "V");
+        const MatrixX3i f = to_faces(F, "F");
+        MatrixX3d x = to_vertices(X, "X");
+        std::vector<char> flags(std::size_t(v.rows()), 0);
+        for (const Index i : to_indices(fixed, "fixed")) {
+          PM_REQUIRE(i >= 0 && i < v.rows(), InvalidInputError, "fixed vertex ", i, " is out of range (", v.rows(),
+                     " vertices)");
+          flags[std::size_t(i)] = 1;
+        }
+        spherical::SphereUntangleOptions o;
+        o.max_rings = max_rings;
+        spherical::SphereUntangleResult r;
+        {
+          py::gil_scoped_release release;
+          r = spherical::untangle_sphere_map(v, f, x, flags, o);
+        }
+        return py::make_tuple(to_numpy(x), r.folded_before, r.folded, r.patches, r.largest_rings);
+      },
+      py::arg("V"), py::arg("F"), py::arg("X"), py::arg("fixed"), py::kw_only(), py::arg("max_rings") = 10,
+      "Untangles the few folded spots of a sphere map patch by patch: (X, folded before, folded after, patches, rings).");
+  m.def(
+      "carry_through_maps",
+      [](const py::object& VA, const py::object& FA, const py::object& sphere_a, const py::object& points) {
+        const MatrixX3d va = to_vertices(VA, "VA");
+        const MatrixX3i fa = to_faces(FA, "FA");
+        const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(points, "points");
+        MatrixX3d carried;
+        {
+          py::gil_scoped_release release;
+          carried = morph::carry_through_maps(va, fa, sa, sb);
+        }
+        return to_numpy(carried);
+      },
+      py::arg("VA"), py::arg("FA"), py::arg("sphere_a"), py::arg("points"),
+      "Points of the sphere read on A through its sphere map: (p, 3) positions on A.");
+}
+
+/// Parses morph()'s keyword options (shared by morph and morph_correspondence).
+morph::MorphOptions morph_options(bool automatic, const py::object& pairs, const py::object& pins, Index proxy_faces,
+                                  bool extremities, bool registration, bool features, double merge_tolerance) {
+  morph::MorphOptions o;
+  o.automatic = automatic;
+  auto to_pairs = [](const py::object& obj, const char* name) {
+    std::vector<std::array<Index, 2>> out;
+    const py::array_t<long long, py::array::c_style | py::array::forcecast> a(obj);
+    // An empty list arrives as shape (0,): no pairs, not a wrong shape.
+    if (a.size() == 0) return out;
+    PM_REQUIRE(a.ndim() == 2 && a.shape(1) == 2, InvalidInputError, name, " must be a (k, 2) integer array");
+    constexpr long long kLargest = std::numeric_limits<Index>::max();
+    for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+      // Out of Index's range must not wrap round into a valid vertex.
+      const long long va = a.at(i, 0), vb = a.at(i, 1);
+      PM_REQUIRE(va >= -kLargest && va <= kLargest && vb >= -kLargest && vb <= kLargest, InvalidInputError, name, " ", i,
+                 " (", va, ", ", vb, ") is out of range");
+      out.push_back({Index(va), Index(vb)});
+    }
+    return out;
+  };
+  if (!pairs.is_none()) o.pairs = to_pairs(pairs, "pairs");
+  if (!pins.is_none()) o.pins = to_pairs(pins, "pins");
+  o.correspondence.proxy_faces = proxy_faces;
+  o.correspondence.extremities = extremities;
+  o.correspondence.registration = registration;
+  o.correspondence.features = features;
+  o.overlay.merge_tolerance = merge_tolerance;
+  return o;
+}
+
+py::list candidates_to_list(const std::vector<morph::CorrespondenceCandidate>& candidates) {
+  py::list out;
+  for (const auto& c : candidates) out.append(c);
+  return out;
+}
+
+void def_correspondence(py::module_& m) {
+  using morph::CorrespondenceCandidate;
+  py::class_<CorrespondenceCandidate>(m, "CorrespondenceCandidate",
+                                      "One automatic correspondence the morph weighed, and its score.")
+      .def_readonly("kind", &CorrespondenceCandidate::kind,
+                    "'none', 'extremities', 'registration', 'features' or 'given'")
+      .def_readonly("detail", &CorrespondenceCandidate::detail)
+      .def_property_readonly("proxy_pairs", [](const CorrespondenceCandidate& c) { return pairs_to_numpy(c.proxy_pairs); },
+                             "(k, 2) its automatic pairs on the proxies")
+      .def_readonly("score", &CorrespondenceCandidate::score,
+                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi): lower is better; inf when rejected before scoring")
+      .def_readonly("distortion", &CorrespondenceCandidate::distortion,
+                    "mean isometric distortion of its correspondence (0 for an isometry)")
+      .def_readonly("curvature_mismatch", &CorrespondenceCandidate::curvature_mismatch,
+                    "mean difference of smoothed Gaussian curvature at corresponding points, over its spread")
+      .def_readonly("turn", &CorrespondenceCandidate::turn, "radians it turns B from where it is placed")
+      .def_readonly("rejected", &CorrespondenceCandidate::rejected, "why it could not be used: before scoring (score inf) or, by morph, on the models ('' otherwise)")
+      .def("__repr__", [](const CorrespondenceCandidate& c) {
+        return "<CorrespondenceCandidate " + c.kind + " (" + c.detail + ") score=" + std::to_string(c.score) +
+               (c.rejected.empty() ? "" : " rejected: " + c.rejected) + ">";
+      });
+  using morph::MorphCorrespondence;
+  py::class_<MorphCorrespondence>(m, "MorphCorrespondence", "Result of morph_correspondence().")
+      .def_property_readonly("candidates", [](const MorphCorrespondence& r) { return candidates_to_list(r.correspondence.candidates); })
+      .def_property_readonly("chosen", [](const MorphCorrespondence& r) { return r.correspondence.chosen; },
+                             "index of the candidate morph() would use")
+      .def_property_readonly("pairs", [](const MorphCorrespondence& r) { return pairs_to_numpy(r.correspondence.pairs); },
+                             "(k, 2) the chosen candidate's pairs on the models (vertex of A, of B), pins not included")
+      .def_property_readonly("proxy_a", [](const MorphCorrespondence& r) {
+        return py::make_tuple(to_numpy(r.correspondence.proxy_a), to_numpy(r.correspondence.proxy_faces_a));
+      }, "(V, F) of A's proxy, in A's correspondence frame (outward, centred, unit area)")
+      .def_property_readonly("proxy_b", [](const MorphCorrespondence& r) {
+        return py::make_tuple(to_numpy(r.correspondence.proxy_b), to_numpy(r.correspondence.proxy_faces_b));
+      }, "(V, F) of B's proxy, in B's correspondence frame")
+      .def_property_readonly("map_a", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.map_a); },
+                             "balanced sphere map of A's proxy")
+      .def_property_readonly("map_b", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.map_b); },
+                             "balanced sphere map of B's proxy")
+      .def_property_readonly("warped_b", [](const MorphCorrespondence& r) { return to_numpy(r.correspondence.warped_b); },
+                             "the chosen candidate's map of B's proxy, on A's proxy map")
+      .def_readonly("inside_out_a", &MorphCorrespondence::inside_out_a)
+      .def_readonly("inside_out_b", &MorphCorrespondence::inside_out_b)
+      .def_property_readonly("timings", [](const MorphCorrespondence& r) { return r.correspondence.timings; });
+}
+
 void def_morph(py::module_& m) {
   using morph::Morph;
   py::class_<Morph>(m, "Morph", "Result of morph(): the merged topology and both shapes on it.")
@@ -166,156 +369,101 @@ void def_morph(py::module_& m) {
       .def_property_readonly("merged", [](const Morph& r) { return r.merged; },
                              "the MergedTopology (barycentric coordinates in A and B, stats)")
       .def_property_readonly("pairs", [](const Morph& r) { return pairs_to_numpy(r.pairs); },
-                             "(P, 2) int32 (vertex of A, vertex of B) used, pins first")
+                             "(P, 2) int32 (vertex of A, vertex of B) that hold exactly, pins first")
       .def_property_readonly("pair_is_pin", [](const Morph& r) {
         py::array_t<bool> out(py::ssize_t(r.pair_is_pin.size()));
         for (std::size_t i = 0; i < r.pair_is_pin.size(); ++i) out.mutable_at(py::ssize_t(i)) = r.pair_is_pin[i];
         return out;
       })
-      .def_property_readonly("pair_scores", [](const Morph& r) { return to_numpy(r.pair_scores); })
-      .def_readonly("mean_pair_error", &Morph::mean_pair_error,
-                    "mean angle (radians) between paired points on the two maps")
-      .def_property_readonly("registration_cost", [](const Morph& r) -> py::object {
-        return r.registration ? py::cast(r.registration->cost) : py::none();
-      }, "mean distance of the registered B from A (share of A's diagonal), or None")
-      .def_readonly("registration_fold_share", &Morph::registration_fold_share,
-                    "share of B's area folded when carried onto A by the registration tried "
-                    "(over max_fold_share: the registration was not used)")
+      .def_property_readonly("candidates", [](const Morph& r) { return candidates_to_list(r.candidates); },
+                             "every CorrespondenceCandidate weighed, with its score")
+      .def_readonly("chosen", &Morph::chosen, "index of the candidate used")
+      .def_readonly("distortion", &Morph::distortion,
+                    "isometric distortion of the final correspondence (0 for an isometry)")
+      .def_readonly("inside_out_a", &Morph::inside_out_a, "A's file was inside-out (turned for the morph)")
+      .def_readonly("inside_out_b", &Morph::inside_out_b, "B's file was inside-out (turned for the morph)")
       .def_property_readonly("sphere_a", [](const Morph& r) { return to_numpy(r.sphere_a); })
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
-      .def_property_readonly("match", [](const Morph& r) -> py::object {
-        return r.match ? py::cast(*r.match) : py::none();
-      }, "the FeatureMatch when features were matched, else None")
-      .def_readonly("timings", &Morph::timings, "[(stage, seconds)]")
-      .def("carry", [](const Morph& r, int side, const py::object& values) {
-             py::array arr = py::array::ensure(values);
-             PM_REQUIRE(arr && (arr.ndim() == 1 || arr.ndim() == 2), InvalidInputError,
-                        "values must be a (3 * faces,) or (3 * faces, d) array");
-             auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
-             const py::ssize_t cols = arr.ndim() == 2 ? arr.shape(1) : 1;
-             Eigen::MatrixXd in(arr.shape(0), cols);
-             for (py::ssize_t i = 0; i < arr.shape(0); ++i)
-               for (py::ssize_t j = 0; j < cols; ++j) in(i, j) = data.data()[i * cols + j];
-             const Eigen::MatrixXd out = morph::carry_corner_values(r.merged, side, in);
-             return to_numpy(out);
-           },
-           py::arg("side"), py::arg("values"),
-           R"doc(Per-corner values of A (side 0) or B (side 1) -- UVs, colours: row
-3f + c for corner c of face f -- carried to the merged triangles (row 3k + c)
-through the corner barycentric coordinates.)doc")
-      .def("__repr__", [](const Morph& r) {
-        return "<Morph faces=" + std::to_string(r.merged.F.rows()) + " vertices=" +
-               std::to_string(r.merged.V.rows()) + " pairs=" + std::to_string(r.pairs.size()) + ">";
-      });
+      .def_readonly("timings", &Morph::timings)
+      .def(
+          "carry",
+          [](const Morph& r, int side, const py::object& values) {
+            py::array arr = py::array::ensure(values);
+            PM_REQUIRE(arr && (arr.ndim() == 1 || arr.ndim() == 2), InvalidInputError,
+                       "values must be a (3 * faces,) or (3 * faces, d) array");
+            auto data = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arr);
+            const py::ssize_t cols = arr.ndim() == 2 ? arr.shape(1) : 1;
+            Eigen::MatrixXd in(arr.shape(0), cols);
+            for (py::ssize_t i = 0; i < arr.shape(0); ++i)
+              for (py::ssize_t j = 0; j < cols; ++j) in(i, j) = data.data()[i * cols + j];
+            return to_numpy(Eigen::MatrixXd(morph::carry_corner_values(r, side, in)));
+          },
+          py::arg("side"), py::arg("corner_values"),
+          "Per-corner values of A (side 0) or B (side 1), rows 3f + c, carried to the merged faces "
+          "(rows 3k + c).");
   m.def(
       "morph",
-      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB, bool features,
-         const py::object& pairs, const py::object& pins, double epsilon, int max_iterations, double pin_weight,
-         double pin_radius, double feature_weight, double normal_angle, double concavity_threshold,
-         double min_area, double spacing, double merge_tolerance, const py::object& sphere_a,
-         const py::object& sphere_b, bool register_surfaces, double pair_distance, double max_fold_share,
-         py::object progress) {
-        morph::MorphOptions o;
-        o.max_fold_share = max_fold_share;
-        o.features = features;
-        o.register_surfaces = register_surfaces;
-        o.pair_distance = pair_distance;
-        if (!pairs.is_none()) o.pairs = to_index_pairs(pairs, "pairs");
-        if (!pins.is_none()) o.pins = to_index_pairs(pins, "pins");
-        o.epsilon = epsilon;
-        o.max_iterations = max_iterations;
-        o.pin_weight = pin_weight;
-        o.pin_radius = pin_radius;
-        o.align.feature_weight = feature_weight;
-        o.match.regions.normal_angle = normal_angle;
-        o.match.regions.concavity_threshold = concavity_threshold;
-        o.match.regions.min_area = min_area;
-        o.match.points.spacing = spacing;
-        o.overlay.merge_tolerance = merge_tolerance;
-        if (!sphere_a.is_none()) o.sphere_a = to_vertices(sphere_a, "sphere_a");
-        if (!sphere_b.is_none()) o.sphere_b = to_vertices(sphere_b, "sphere_b");
+      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB, bool automatic,
+         const py::object& pairs, const py::object& pins, Index proxy_faces, bool extremities, bool registration,
+         bool features, double merge_tolerance, py::object progress) {
+        const morph::MorphOptions o =
+            morph_options(automatic, pairs, pins, proxy_faces, extremities, registration, features, merge_tolerance);
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return morph::morph(va, fa, vb, fb, o, bridge.get()); });
       },
-      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("features") = true,
-      py::arg("pairs") = py::none(), py::arg("pins") = py::none(), py::arg("epsilon") = 0.05,
-      py::arg("max_iterations") = 200, py::arg("pin_weight") = 4.0, py::arg("pin_radius") = 0.15,
-      py::arg("feature_weight") = 50.0, py::arg("normal_angle") = 40.0, py::arg("concavity_threshold") = 0.02,
-      py::arg("min_area") = 0.005, py::arg("spacing") = 0.05, py::arg("merge_tolerance") = 1e-6,
-      py::arg("sphere_a") = py::none(), py::arg("sphere_b") = py::none(),
-      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("max_fold_share") = 0.01,
-      py::arg("progress") = py::none(),
-      R"doc(Feature-based morph of closed genus-0 mesh A into B (thesis ch. 4): both
-sphere-mapped, A's map optimized (4.3.3), features matched (4.5; off with
-features=False, or `pairs` (k, 2) given instead), B's map aligned to A's
-paired features ((4.12), fold constraints), the maps overlaid (4.4).
-With features, B is first registered onto A in 3D (register_surfaces=True:
-polynomial point-to-plane ICP); B's targets are then A's map at the closest
-points of A, and the pairs are the feature points mutually nearest after
-registration, within pair_distance (share of A's bounding-box diagonal);
-when more than max_fold_share of B's area folds when carried onto A by the
-registration (shapes too unlike for a 3D fit), it is not used.
-pins: (k, 2) user pairs, always used and winning over automatic pairs on or
-within pin_radius (radians) of their vertices. sphere_a / sphere_b: fold-free
-sphere maps already at hand.
+      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("automatic") = true,
+      py::arg("pairs") = py::none(), py::arg("pins") = py::none(), py::arg("proxy_faces") = 3000,
+      py::arg("extremities") = true, py::arg("registration") = true, py::arg("features") = true,
+      py::arg("merge_tolerance") = 1e-6, py::arg("progress") = py::none(),
+      R"doc(Morph of closed genus-0 mesh A into B (thesis ch. 4; issue 16).
 
-Returns Morph: faces, sphere, source (A's shape), target (B's shape),
-vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, pair_scores,
-mean_pair_error, registration_cost, sphere_a/b, match, timings, carry(side, values). Errors name
-the mesh ("mesh A: ..."), keep their MeshError type; Cancelled.)doc");
-}
+Both models are turned outward when their files are inside-out, centred and
+scaled for the correspondence. On proxies of about `proxy_faces` faces with
+balanced (isometric) sphere maps, candidate correspondences are scored by the
+distortion they make, no ground truth needed: none (the models as placed),
+pairings of extremity tips (segment_extremities), 3D registrations from the
+principal axes, the thesis' feature points (match_features); the lowest
+wins, so automatic pairs are used only when they beat no pairs
+(automatic=False: the pins and any given pairs alone). pins: (k, 2) (vertex of A, vertex of B),
+hard: the pinned vertex of A lands exactly on its partner at t = 1. pairs:
+(k, 2) to use instead of the automatic candidates (e.g. an edited preview).
+The maps are overlaid (4.4) into one merged topology.
 
-void def_morph_pairs(py::module_& m) {
-  using morph::MorphPairs;
-  py::class_<MorphPairs>(m, "MorphPairs", "Result of morph_pairs().")
-      .def_readonly("match", &MorphPairs::match, "the FeatureMatch (regions, points, region pairs)")
-      .def_property_readonly("pairs", [](const MorphPairs& r) { return pairs_to_numpy(r.pairs.pairs); },
-                             "(P, 2) int32 (vertex of A, vertex of B): the pairs morph() would use")
-      .def_property_readonly("scores", [](const MorphPairs& r) { return to_numpy(r.pairs.scores); })
-      .def_property_readonly("registration_cost", [](const MorphPairs& r) -> py::object {
-        return r.registration ? py::cast(r.registration->cost) : py::none();
-      }, "mean distance of the registered B from A (share of A's diagonal), or None")
-      .def_readonly("fold_share", &MorphPairs::fold_share,
-                    "share of B's area folded when carried onto A by the registration tried");
+Returns Morph: faces, sphere, source (A as placed), target (B as placed),
+vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, candidates,
+chosen, distortion, inside_out_a/b, sphere_a/b, timings, carry(side, values).
+Errors name the mesh ("mesh A: ..."), keep their MeshError type; pins out of
+range: InvalidInputError; a vertex pinned twice or mirrored pins:
+ConstraintError naming them; Cancelled.)doc");
   m.def(
-      "morph_pairs",
-      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB,
-         double normal_angle, double concavity_threshold, double min_area, double spacing,
-         bool register_surfaces, double pair_distance, double max_fold_share, py::object progress) {
-        features::MatchOptions o;
-        o.regions.normal_angle = normal_angle;
-        o.regions.concavity_threshold = concavity_threshold;
-        o.regions.min_area = min_area;
-        o.points.spacing = spacing;
+      "morph_correspondence",
+      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB, bool automatic,
+         const py::object& pairs, const py::object& pins, Index proxy_faces, bool extremities, bool registration,
+         bool features, py::object progress) {
+        const morph::MorphOptions o =
+            morph_options(automatic, pairs, pins, proxy_faces, extremities, registration, features, 1e-6);
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         PythonProgress bridge(std::move(progress));
-        return run_without_gil(bridge, [&] {
-          return morph::morph_pairs(va, fa, vb, fb, o, register_surfaces, {}, pair_distance, max_fold_share,
-                                    bridge.get());
-        });
+        return run_without_gil(bridge, [&] { return morph::morph_correspondence(va, fa, vb, fb, o, bridge.get()); });
       },
-      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("normal_angle") = 40.0,
-      py::arg("concavity_threshold") = 0.02, py::arg("min_area") = 0.005, py::arg("spacing") = 0.05,
-      py::arg("register_surfaces") = true, py::arg("pair_distance") = 0.03, py::arg("max_fold_share") = 0.01,
+      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("automatic") = true,
+      py::arg("pairs") = py::none(), py::arg("pins") = py::none(), py::arg("proxy_faces") = 3000,
+      py::arg("extremities") = true, py::arg("registration") = true, py::arg("features") = true,
       py::arg("progress") = py::none(),
-      R"doc(The feature pairs morph() makes with the same options, for a preview:
-match_features, then B registered onto A in 3D and the feature points of one
-kind mutually nearest after registration (within pair_distance, share of A's
-bounding-box diagonal); without register_surfaces, or when more than
-max_fold_share of B's area folds when carried onto A (shapes too unlike for
-a 3D fit), the match's own point pairs. Returns MorphPairs: match, pairs,
-scores, registration_cost (None when not used), fold_share. Errors as
-match_features; Cancelled.)doc");
+      R"doc(The correspondence morph() would choose with the same options, for a
+preview: every candidate with its score, the chosen one, and its pairs on the
+models. Same checks and errors as morph().)doc");
 }
 
 void bind_morph(py::module_& m) {
   def_optimize_sphere_map(m);
   def_align_sphere_map(m);
+  def_map_distortion(m);
+  def_correspondence(m);
   def_morph(m);
-  def_morph_pairs(m);
 }
 
 }  // namespace paramorph::python

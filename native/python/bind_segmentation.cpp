@@ -1,8 +1,10 @@
 // Segmentations (native/features/): Segmentation, area_stretch,
-// segment_extremities (features/segment_extremities.h), feature_regions
+// segment_extremities (features/segment_extremities.h), extremity_tips
+// (features/extremity_tips.h), feature_regions
 // (features/feature_regions.h), feature_points (features/feature_points.h).
 #include <pybind11/stl.h>
 
+#include "features/extremity_tips.h"
 #include "features/feature_points.h"
 #include "features/feature_regions.h"
 #include "features/segment_extremities.h"
@@ -182,10 +184,33 @@ Raises InvalidInputError for mismatched arrays.)doc");
 
 }  // namespace
 
+void def_extremity_tips(py::module_& m) {
+  py::class_<features::ExtremityTips>(m, "ExtremityTips", "Result of extremity_tips().")
+      .def_readonly("body", &features::ExtremityTips::body, "the body region (largest area)")
+      .def_readonly("vertices", &features::ExtremityTips::vertices, "per extremity, its tip vertex (longest first)")
+      .def_readonly("regions", &features::ExtremityTips::regions, "the extremity's region")
+      .def_readonly("lengths", &features::ExtremityTips::lengths, "edge-path distance from the body to the tip");
+  m.def(
+      "extremity_tips",
+      [](const py::object& V, const py::object& F, const Segmentation& segmentation, double prominence) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        py::gil_scoped_release release;
+        return features::extremity_tips(v, f, segmentation, prominence);
+      },
+      py::arg("V"), py::arg("F"), py::arg("segmentation"), py::kw_only(), py::arg("prominence") = 0.0,
+      R"doc(The tips of the extremities of a segmentation (segment_extremities): the
+peaks of the distance along edges from the body (the largest region) that
+rise at least `prominence` (units of V) above where they meet a higher one,
+and in every extremity at least its farthest vertex. Returns ExtremityTips
+(body, vertices, regions, lengths), farthest first.)doc");
+}
+
 void bind_segmentation(py::module_& m) {
   def_segmentation(m);
   def_area_stretch(m);
   def_segment_extremities(m);
+  def_extremity_tips(m);
   def_feature_regions(m);
   def_feature_points(m);
 }

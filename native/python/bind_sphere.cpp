@@ -1,6 +1,9 @@
-// sphere_map(): fold-free spherical parameterization (param/spherical/sphere_map.h).
+// sphere_map(): fold-free spherical parameterization (param/spherical/sphere_map.h);
+// isometric_sphere_map and balanced_sphere_map (param/spherical/), the morph's maps.
 #include <pybind11/stl.h>
 
+#include "param/spherical/balanced_sphere_map.h"
+#include "param/spherical/isometric_sphere_map.h"
 #include "param/spherical/sphere_map.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
@@ -11,7 +14,64 @@ namespace paramorph::python {
 using spherical::SphereMapOptions;
 using spherical::SphereMapResult;
 
+void def_isometric_sphere_map(py::module_& m) {
+  using spherical::IsometricSphereResult;
+  py::class_<IsometricSphereResult>(m, "IsometricSphereMap", "Result of isometric_sphere_map().")
+      .def_property_readonly("positions", [](const IsometricSphereResult& r) { return to_numpy(r.positions); })
+      .def_readonly("steps", &IsometricSphereResult::steps)
+      .def_readonly("start_energy", &IsometricSphereResult::start_energy)
+      .def_readonly("energy", &IsometricSphereResult::energy)
+      .def_readonly("converged", &IsometricSphereResult::converged);
+  m.def(
+      "isometric_sphere_map",
+      [](const py::object& V, const py::object& F, const py::object& start, int max_steps, double tol,
+         py::object progress) {
+        const MatrixX3d v = to_vertices(V), s = to_vertices(start, "start");
+        const MatrixX3i f = to_faces(F);
+        spherical::IsometricSphereOptions o;
+        o.max_steps = max_steps;
+        o.tol = tol;
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] {
+          return spherical::isometric_sphere_map(v, f, s, o, ProgressWindow(bridge.get()));
+        });
+      },
+      py::arg("V"), py::arg("F"), py::arg("start"), py::kw_only(), py::arg("max_steps") = 40,
+      py::arg("tol") = 1e-5, py::arg("progress") = py::none(),
+      R"doc(Sphere map minimising the isometric (symmetric Dirichlet) energy of every
+face, from a fold-free start whose faces all have positive triple products.)doc");
+}
+
+void def_balanced_sphere_map(py::module_& m) {
+  using spherical::BalancedSphereResult;
+  py::class_<BalancedSphereResult>(m, "BalancedSphereMap", "Result of balanced_sphere_map().")
+      .def_property_readonly("positions", [](const BalancedSphereResult& r) { return to_numpy(r.positions); })
+      .def_readonly("level_faces", &BalancedSphereResult::level_faces)
+      .def_readonly("steps", &BalancedSphereResult::steps)
+      .def_readonly("energy", &BalancedSphereResult::energy);
+  m.def(
+      "balanced_sphere_map",
+      [](const py::object& V, const py::object& F, Index coarsest_faces, double level_ratio, int max_steps,
+         py::object progress) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        spherical::BalancedSphereOptions o;
+        o.coarsest_faces = coarsest_faces;
+        o.level_ratio = level_ratio;
+        o.isometric.max_steps = max_steps;
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] { return spherical::balanced_sphere_map(v, f, o, bridge.get()); });
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("coarsest_faces") = 600, py::arg("level_ratio") = 8.0,
+      py::arg("max_steps") = 40, py::arg("progress") = py::none(),
+      R"doc(Fold-free sphere map giving every part a share of the sphere close to its
+share of the surface: coarse to fine, the isometric sphere map of each level
+started from the coarser level's.)doc");
+}
+
 void bind_sphere(py::module_& m) {
+  def_isometric_sphere_map(m);
+  def_balanced_sphere_map(m);
   py::class_<SphereMapResult>(m, "SphereMap",
                               "Result of sphere_map(): unit-sphere positions and solver statistics.")
       .def_property_readonly("positions", [](const SphereMapResult& r) { return to_numpy(r.positions); },

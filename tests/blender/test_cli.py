@@ -266,18 +266,23 @@ def test_option_out_of_range_and_unknown_object(cli, tmp_path):
 
 
 def test_morph_two_obj_files_into_an_animated_blend(cli, tmp_path):
-    make_samples.build_blob(subdivisions=3)
+    blob = make_samples.build_blob(subdivisions=3)
+    blob_tip = int(np.argmax(bridge.mesh_arrays(blob.data)[0][:, 0]))
     blob_obj = tmp_path / "blob.obj"
     export(blob_obj)
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    make_samples.build_octopus(subdivisions=3, limbs=4)
+    octopus = make_samples.build_octopus(subdivisions=3, limbs=4)
+    octopus_tip = int(np.argmax(bridge.mesh_arrays(octopus.data)[0][:, 0]))
     octopus_obj = tmp_path / "octopus.obj"
     export(octopus_obj)
     out = tmp_path / "out" / "morph.blend"
     proc = run_cli(cli, tmp_path, "morph", blob_obj, octopus_obj, "--frames", "12", "--start", "5",
-                   "--in-betweens", "1", "-o", out)
+                   "--in-betweens", "1", "--pin", str(blob_tip), str(octopus_tip), "-o", out)
     assert proc.returncode == 0, output(proc)
     assert "paramorph morph: Blob to Octopus:" in proc.stdout and f"wrote {out}" in proc.stdout
+    # The chosen candidate and what held exactly, in one line.
+    assert "paramorph morph: chosen " in proc.stdout and ", score " in proc.stdout, output(proc)
+    assert "1 pin and " in proc.stdout and " held exactly" in proc.stdout, output(proc)
 
     open_output(out)
     scene = bpy.context.scene
@@ -289,6 +294,14 @@ def test_morph_two_obj_files_into_an_animated_blend(cli, tmp_path):
     assert keys.key_blocks["Octopus"].value == pytest.approx(1.0)
     scene.frame_set(5)
     assert keys.key_blocks["Octopus"].value == pytest.approx(0.0)
+    # The pin held: the merged vertex at the blob's tip ends exactly on the octopus's.
+    A = bridge.mesh_arrays(bpy.data.objects["Blob"].data)[0]
+    B = bridge.mesh_arrays(bpy.data.objects["Octopus"].data)[0]
+    basis, end = (np.array([tuple(v.co) for v in keys.key_blocks[name].data]) for name in ("Basis", "Octopus"))
+    merged = int(np.argmin(np.linalg.norm(basis - A[blob_tip], axis=1)))
+    size = np.linalg.norm(np.ptp(B, axis=0))
+    assert np.linalg.norm(basis[merged] - A[blob_tip]) <= 1e-6 * size
+    assert np.linalg.norm(end[merged] - B[octopus_tip]) <= 1e-6 * size
 
 
 def test_morph_usage_and_input_errors(cli, tmp_path):
@@ -299,6 +312,18 @@ def test_morph_usage_and_input_errors(cli, tmp_path):
     assert proc.returncode == 2 and "OUT must end in .blend" in proc.stderr, output(proc)
     proc = run_cli(cli, tmp_path, "morph", blob_obj, tmp_path / "missing.obj", "-o", tmp_path / "out.blend")
     assert proc.returncode == 1 and "B: " in proc.stderr and "no such file" in proc.stderr, output(proc)
+    # Pins: a vertex pinned twice and a negative index are usage errors; an index past
+    # the mesh's end is reported by object; --no-features is gone (--no-automatic).
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "-o", tmp_path / "out.blend",
+                   "--pin", "1", "2", "--pin", "1", "3")
+    assert proc.returncode == 2 and "--pin 1 2 and --pin 1 3 both pin vertex 1 of A" in proc.stderr, output(proc)
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "-o", tmp_path / "out.blend", "--pin", "-1", "2")
+    assert proc.returncode == 2 and "vertex indices start at 0" in proc.stderr, output(proc)
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "-o", tmp_path / "out.blend",
+                   "--pin", "0", "99999", "--no-automatic")
+    assert proc.returncode == 1 and "has no vertex 99999" in proc.stderr, output(proc)
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "-o", tmp_path / "out.blend", "--no-features")
+    assert proc.returncode == 2 and "--no-features" in proc.stderr, output(proc)
     assert not (tmp_path / "out.blend").exists()
 
 

@@ -12,13 +12,14 @@
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
 #include "morph/optimize_sphere_map.h"
-#include "morph/sphere_map_barrier.h"
+#include "param/spherical/sphere_map_barrier.h"
 #include "morph/sphere_map_nlp.h"
 #include "param/spherical/sphere_map.h"
 #include "test_meshes.h"
 
 using namespace paramorph;
 using namespace paramorph::morph;
+using namespace paramorph::spherical;
 
 namespace {
 

@@ -1,6 +1,6 @@
 // The morph's 3D registration (morph/register_surfaces, thesis ch. 4) and
-// its helpers: closest points on a mesh (morph/closest_points) and mutually
-// nearest feature point pairs (morph/pair_nearest_points).
+// closest points on a mesh (mesh/closest_points).
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,8 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
-#include "morph/closest_points.h"
-#include "morph/pair_nearest_points.h"
+#include "mesh/closest_points.h"
 #include "morph/register_surfaces.h"
 #include "test_meshes.h"
 
@@ -99,19 +98,3 @@ TEST(RegisterSurfaces, RejectsBadInput) {
   EXPECT_THROW(register_surfaces(V, F, V, F, {start}, o), InvalidInputError);
 }
 
-TEST(PairNearestPoints, MutuallyNearestOfOneKindWithinTheBound) {
-  MatrixX3d PA(4, 3), PB(4, 3);
-  PA << 0, 0, 0,  1, 0, 0,  0, 1, 0,  5, 5, 5;
-  PB << 0.1, 0, 0,  0.05, 0, 0,  1, 0.1, 0,  0, 1.05, 0;
-  const std::vector<int> ka = {1, 1, -1, 1}, kb = {1, 1, -1, -1};
-  const PointPairs p = pair_nearest_points(PA, ka, PB, kb, 0.5);
-  // A0 <-> B1 (the nearer of two); B0's nearest is A0, taken: unpaired; A1
-  // has no point of its kind within the bound (B2 is near but convex); A2
-  // (convex) <-> B3; A3 is far from everything.
-  ASSERT_EQ(p.pairs.size(), 2u);
-  EXPECT_EQ(p.pairs[0], (std::array<Index, 2>{0, 1}));
-  EXPECT_EQ(p.pairs[1], (std::array<Index, 2>{2, 3}));
-  EXPECT_NEAR(p.distances[1], 0.05, 1e-12);
-  EXPECT_TRUE(pair_nearest_points(PA, ka, PB, kb, 0.01).pairs.empty());
-  EXPECT_THROW(pair_nearest_points(PA, {1}, PB, kb, 0.5), InvalidInputError);
-}

@@ -45,13 +45,15 @@ def screenshot_rgb(name):
 def run_steps(steps, report):
     """Runs steps (callables; None waits one tick) half a second apart; an
     exception records its traceback in stats["error"] and skips to the end,
-    which writes OUT/<report> and quits Blender."""
+    which writes OUT/<report> and quits Blender. The list itself is the
+    queue: a step that waits re-inserts itself with steps.insert(0, step)."""
     def finish():
         with open(os.path.join(OUT, report), "w") as f:
             json.dump(stats, f)
         bpy.ops.wm.quit_blender()
 
-    queue = list(steps) + [finish]
+    queue = steps  # not a copy: waiting steps insert themselves at its front
+    queue.append(finish)
 
     def tick():
         try:

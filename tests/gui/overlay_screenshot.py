@@ -11,7 +11,9 @@ OUT_DIR/overlay.json (the test asserts on them); then undoes the
 segmentation (undo needs a window) and records what is left; then runs
 Sphere Map as users do (INVOKE: a modal operator, the native call in a
 thread), cancels it as Esc or the panel's Cancel button would, checks the
-mesh is untouched, runs it again to the end; then quits."""
+mesh is untouched, runs it again to the end; then Preview Matches (its
+candidates are stored) and Morph To as a modal operator, undone; then quits.
+(Pick Pins' overlay has its own window test: pick_pins_gui.py.)"""
 import colorsys
 import os
 import sys
@@ -104,11 +106,19 @@ def modal_cancel():
     jobs.cancel_all()
 
 
-def wait_for_jobs():
-    """Repeats (by re-inserting itself) until no job runs, for at most 60 s."""
-    stats["modal"]["waits"] = stats["modal"].get("waits", 0) + 1
-    if jobs.running() and stats["modal"]["waits"] < 120:
-        steps.insert(0, wait_for_jobs)
+def wait_for_jobs(written=lambda: True, key="modal"):
+    """A step that repeats (by re-inserting itself) while a job's thread runs or
+    what it writes is not there yet, for at most 60 s: the operator writes on
+    its first timer event after the thread ends, not when the thread ends."""
+    def wait():
+        stats[key]["waits"] = stats[key].get("waits", 0) + 1
+        if (jobs.running() or not written()) and stats[key]["waits"] < 120:
+            steps.insert(0, wait)
+    return wait
+
+
+def sphere_written():
+    return "Sphere" in bpy.data.objects["Big"].data.uv_layers
 
 
 def modal_check(label):
@@ -135,7 +145,10 @@ def morph_setup():
         stats["morph"] = {"preview": sorted(bpy.ops.paramorph.preview_matches("EXEC_DEFAULT", True))}
     for obj in (source, target):
         obj.select_set(False)  # no selection outline in the picture
-    stats["morph"]["pairs"] = len(bpy.context.scene.paramorph_matches.pairs)
+    matches = bpy.context.scene.paramorph_matches
+    stats["morph"]["pairs"] = len(matches.pairs)
+    stats["morph"]["candidates"] = len(matches.candidates)
+    stats["morph"]["chosen"] = sum(c.chosen for c in matches.candidates)
     stats["morph"]["objects_before"] = sorted(o.name for o in bpy.data.objects)
 
 
@@ -150,11 +163,8 @@ def morph_invoke():
     stats["morph"]["running"] = len(jobs.running())
 
 
-def wait_for_morph():
-    """As wait_for_jobs, for the morph (at most 60 s)."""
-    stats["morph"]["waits"] = stats["morph"].get("waits", 0) + 1
-    if jobs.running() and stats["morph"]["waits"] < 120:
-        steps.insert(0, wait_for_morph)
+def morph_written():
+    return "Octopus to OctopusB" in bpy.data.objects
 
 
 def morph_check_and_undo():
@@ -169,9 +179,9 @@ def morph_check_and_undo():
 
 
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
-         modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs, None, modal_check("cancelled"),
-         modal_invoke("second"), wait_for_jobs, None, modal_check("finished"),
-         morph_setup, None, picture("preview"), morph_invoke, wait_for_morph, None, morph_check_and_undo]
+         modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs(), None, modal_check("cancelled"),
+         modal_invoke("second"), wait_for_jobs(sphere_written), None, modal_check("finished"),
+         morph_setup, None, morph_invoke, wait_for_jobs(morph_written, "morph"), None, morph_check_and_undo]
 
 
 run_steps(steps, "overlay.json")

@@ -1,7 +1,7 @@
 """The overlay GUI test: a real Blender window under Xvfb draws the region
 overlay; pixels prove the region colours appear (and do not without it).
 Undo, which needs a window, is checked in the same run, and so are the
-modal operators (Sphere Map, Morph To) and the Preview Matches overlay."""
+modal operators (Sphere Map, Morph To) and Preview Matches."""
 from window_run import needs_window, run_in_window
 
 
@@ -25,12 +25,10 @@ def test_region_overlay_colours_the_viewport(tmp_path):
     assert modal["cancelled"] == {"sphere_uv": False, "shape_keys": False}, modal
     assert modal["second_invoke"] == ["RUNNING_MODAL"], modal
     assert modal["finished"] == {"sphere_uv": True, "shape_keys": True}, modal
-    # Preview Matches colours the matched regions of both objects; Morph To
+    # Preview Matches stores the candidates it weighed, one chosen; Morph To
     # runs in its thread to the end; undo takes the morph object away again.
     morph = stats["morph"]
-    assert morph["preview"] == ["FINISHED"] and morph["pairs"] > 0, morph
-    assert stats["preview"]["colored"] > 0.03 * stats["preview"]["pixels"], stats
-    assert stats["preview"]["hue_bins_used"] >= 2, stats
+    assert morph["preview"] == ["FINISHED"] and morph["candidates"] >= 1 and morph["chosen"] == 1, morph
     assert morph["invoke"] == ["RUNNING_MODAL"] and morph["running"] == 1, morph
     assert morph["made"], morph
     assert morph["objects_done"] == sorted(morph["objects_before"] + ["Octopus to OctopusB"]), morph

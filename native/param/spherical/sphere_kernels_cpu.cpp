@@ -48,15 +48,15 @@ class CpuSphereKernels final : public SphereKernels {
 
   double residual_squared() override {
     const Index n = g_.num_vertices();
-    double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum) schedule(static)
+    VectorXd row_residual(n);  // summed in order below: the same on every run
+#pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3d xi = x_.row(i).transpose();
       Eigen::Vector3d r = u_.row(i).transpose() - ring_sum(i, u_) / g_.degree[i];
       r -= xi.dot(r) * xi;
-      sum += r.squaredNorm();
+      row_residual[i] = r.squaredNorm();
     }
-    return sum;
+    return row_residual.sum();
   }
 
   void read_solution(MatrixX3d& u) override { u = u_; }

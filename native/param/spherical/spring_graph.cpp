@@ -65,15 +65,19 @@ void SpringGraph::apply(const MatrixX3d& u, MatrixX3d& out) const {
 
 double SpringGraph::energy(const MatrixX3d& u) const {
   const Index n = num_vertices();
-  double e = 0.0;
-#pragma omp parallel for reduction(+ : e) schedule(static)
+  // Rows in parallel, summed in order: the same energy on every run (the
+  // outer loop's stopping test compares energies).
+  VectorXd row_energy(n);
+#pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
+    double e = 0.0;
     for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
       const Index j = neighbors[k];
       if (j > i) e += weights[k] * (u.row(i) - u.row(j)).squaredNorm();
     }
+    row_energy[i] = e;
   }
-  return 0.5 * e;
+  return 0.5 * row_energy.sum();
 }
 
 Eigen::SparseMatrix<double> SpringGraph::matrix(double diagonal_shift) const {

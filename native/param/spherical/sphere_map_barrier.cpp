@@ -1,4 +1,4 @@
-#include "morph/sphere_map_barrier.h"
+#include "param/spherical/sphere_map_barrier.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,22 +6,20 @@
 #include <functional>
 #include <vector>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "param/spherical/tangent_newton.h"
 
-namespace paramorph::morph {
+namespace paramorph::spherical {
 
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
-using Mat32 = Eigen::Matrix<double, 3, 2>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using SparseMatrix = Eigen::SparseMatrix<double>;
+
+
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 /// Triple products above -kRoundoff are not folds (as in optimize_sphere_map).
@@ -29,69 +27,11 @@ constexpr double kRoundoff = 1e-13;
 
 Vec3 row(const MatrixX3d& X, Index v) { return X.row(v).transpose(); }
 
-/// Two orthonormal tangent directions at the unit vector v (columns).
-Mat32 tangent_basis(const Vec3& v) {
-  const Vec3 axis = std::abs(v.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  const Vec3 e1 = (axis - axis.dot(v) * v).normalized();
-  Mat32 T;
-  T << e1, v.cross(e1);
-  return T;
-}
-
 /// E(t) with E_pq = sum_r eps_pqr t_r: d^2 det(x0, x1, x2) / dx_k,p dx_{k+1},q = E(x_{k+2}).
 Mat3 mixed_block(const Vec3& t) {
   Mat3 E;
   E << 0, t.z(), -t.y(), -t.z(), 0, t.x(), t.y(), -t.x(), 0;
   return E;
-}
-
-/// The Newton system's fixed sparsity: lower triangle of the 2#V by 2#V
-/// matrix (two tangent coordinates per vertex, coupled along edges), and for
-/// every face the slot of each entry of its 6 by 6 block (-1: upper triangle,
-/// filled by its mirror).
-struct NewtonPattern {
-  SparseMatrix A;
-  std::vector<Index> face_slot;  ///< 36 per face, row-major over the local 6 by 6
-  std::vector<Index> diagonal_slot;  ///< 3 per vertex: (2i,2i), (2i+1,2i), (2i+1,2i+1)
-
-  NewtonPattern(const MatrixX3i& F, Index vertices) {
-    const Index faces = Index(F.rows());
-    auto global = [&](Index f, int local) { return 2 * F(f, local / 2) + local % 2; };
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(std::size_t(faces) * 21 + std::size_t(vertices) * 3);
-    for (Index f = 0; f < faces; ++f)
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c)
-          if (global(f, r) >= global(f, c)) entries.emplace_back(global(f, r), global(f, c), 0.0);
-    for (Index v = 0; v < vertices; ++v)
-      for (auto [r, c] : {std::pair{0, 0}, {1, 0}, {1, 1}}) entries.emplace_back(2 * v + r, 2 * v + c, 0.0);
-    A.resize(2 * vertices, 2 * vertices);
-    A.setFromTriplets(entries.begin(), entries.end());
-    A.makeCompressed();
-    auto slot = [&](Index r, Index c) {
-      const Index* begin = A.innerIndexPtr() + A.outerIndexPtr()[c];
-      const Index* end = A.innerIndexPtr() + A.outerIndexPtr()[c + 1];
-      return Index(std::lower_bound(begin, end, r) - A.innerIndexPtr());
-    };
-    face_slot.resize(std::size_t(faces) * 36);
-    for (Index f = 0; f < faces; ++f)
-      for (int r = 0; r < 6; ++r)
-        for (int c = 0; c < 6; ++c)
-          face_slot[36 * std::size_t(f) + 6 * r + c] =
-              global(f, r) >= global(f, c) ? slot(global(f, r), global(f, c)) : -1;
-    diagonal_slot.resize(std::size_t(vertices) * 3);
-    for (Index v = 0; v < vertices; ++v) {
-      diagonal_slot[3 * v] = slot(2 * v, 2 * v);
-      diagonal_slot[3 * v + 1] = slot(2 * v + 1, 2 * v);
-      diagonal_slot[3 * v + 2] = slot(2 * v + 1, 2 * v + 1);
-    }
-  }
-};
-
-/// Unit vectors v_i moved by u_i (#V by 2, tangent coordinates) and projected back.
-void move(const MatrixX3d& X, const std::vector<Mat32>& T, const VectorXd& u, double step, MatrixX3d& out) {
-  for (Index v = 0; v < Index(X.rows()); ++v)
-    out.row(v) = (row(X, v) + step * T[v] * u.segment<2>(2 * v)).normalized().transpose();
 }
 
 }  // namespace
@@ -138,25 +78,8 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
     bounds[f] = det > 2 * kRoundoff ? std::min(o.epsilon, 0.5 * det) : -kRoundoff;
   }
 
-  NewtonPattern pattern(F, vertices);
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
-  llt.cholmod().print = 0;  // a singular try is handled (shifted below), not news
-  // Fill-reducing ordering: the one of AMD and METIS with the smaller factor
-  // (CHOLMOD compares them). pair20k's Suzanne: METIS 1.10M nonzeros and
-  // 1.4e8 flops per factorization against AMD's 1.23M and 2.3e8 (58 against
-  // 69 ms); spot: AMD's 0.24M against METIS's 0.26M.
-  llt.cholmod().nmethods = 2;
-  llt.cholmod().method[0].ordering = CHOLMOD_AMD;
-  llt.cholmod().method[1].ordering = CHOLMOD_METIS;
-  llt.cholmod().postorder = 1;
-  llt.analyzePattern(pattern.A);
-  double* values = pattern.A.valuePtr();
-  const Index nonzeros = Index(pattern.A.nonZeros());
-  const Index* outer = pattern.A.outerIndexPtr();
-  const Index* inner = pattern.A.innerIndexPtr();
-
-  std::vector<Mat32> T(vertices);
-  VectorXd gradient(2 * vertices), step(2 * vertices), scale(2 * vertices), scaled(nonzeros);
+  TangentNewton newton(F, vertices);
+  VectorXd step(2 * vertices);
   MatrixX3d trial(vertices, 3), longer_trial(vertices, 3);
 
   // Gradient and Hessian of E in the tangent coordinates u
@@ -177,9 +100,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   std::vector<Mat6> face_hessian(faces);
   std::vector<Vec6> face_gradient(faces);
   auto assemble = [&](const VectorXd& mu_face) {
-    std::fill(values, values + nonzeros, 0.0);
-#pragma omp parallel for schedule(static)
-    for (Index v = 0; v < vertices; ++v) T[v] = tangent_basis(row(X, v));
+    newton.begin(X);
 #pragma omp parallel for schedule(static)
     for (Index f = 0; f < faces; ++f) {
       const double mu = mu_face[f];
@@ -187,64 +108,30 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
       const Vec3 g[3] = {x[1].cross(x[2]), x[2].cross(x[0]), x[0].cross(x[1])};
       const double det = x[0].dot(g[0]), gap = det - bounds[f];
       Vec6 gt;
-      for (int k = 0; k < 3; ++k) gt.segment<2>(2 * k) = T[F(f, k)].transpose() * g[k];
+      for (int k = 0; k < 3; ++k) gt.segment<2>(2 * k) = newton.basis(F(f, k)).transpose() * g[k];
       face_gradient[f] = (-mu / gap) * gt;
       Mat6 H = (mu / (gap * gap)) * gt * gt.transpose();
       H.diagonal().array() += mu * det / gap;  // -v . dE/dv of the barrier (det is linear in each v)
       for (int k = 0; k < 3; ++k) {
         const int l = (k + 1) % 3;
         const Eigen::Matrix2d block =
-            (-mu / gap) * T[F(f, k)].transpose() * mixed_block(x[(k + 2) % 3]) * T[F(f, l)];
+            (-mu / gap) * newton.basis(F(f, k)).transpose() * mixed_block(x[(k + 2) % 3]) * newton.basis(F(f, l));
         H.block<2, 2>(2 * k, 2 * l) += block;
         H.block<2, 2>(2 * l, 2 * k) += block.transpose();
       }
       // Always indefinite (the triple product's second derivative has
       // eigenvalues of both signs, as the signed area of a plane triangle),
       // so no cheaper positive-definiteness test would skip this.
-      const Eigen::SelfAdjointEigenSolver<Mat6> eigen(H);
-      face_hessian[f] = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                        eigen.eigenvectors().transpose();
+      face_hessian[f] = project_psd(H);
     }
     for (Index v = 0; v < vertices; ++v) {
       const Vec3 p = row(pull, v);
-      gradient.segment<2>(2 * v) = -T[v].transpose() * p;
       // -v . dE/dv of the pull: negative where v faces away from its target
       // (concave there, so left out of the convex model).
       const double curvature = std::max(0.0, p.dot(row(X, v)));
-      values[pattern.diagonal_slot[3 * v]] += curvature;
-      values[pattern.diagonal_slot[3 * v + 2]] += curvature;
+      newton.add_vertex(v, -newton.basis(v).transpose() * p, curvature * Eigen::Matrix2d::Identity());
     }
-    for (Index f = 0; f < faces; ++f) {
-      for (int k = 0; k < 3; ++k) gradient.segment<2>(2 * F(f, k)) += face_gradient[f].segment<2>(2 * k);
-      const Index* slot = pattern.face_slot.data() + 36 * std::size_t(f);
-      const Mat6& H = face_hessian[f];
-      for (int k = 0; k < 36; ++k)
-        if (slot[k] >= 0) values[slot[k]] += H(k / 6, k % 6);
-    }
-  };
-
-  // Newton step: symmetric diagonal scaling first (squeezed faces put
-  // 1/gap^2 ~ 1e26 beside entries of 1). The system is positive
-  // semi-definite by construction; a diagonal shift is only the fallback
-  // for a singular one (e.g. a vertex whose pull and faces all vanish).
-  auto newton_step = [&]() {
-    for (Index c = 0; c < 2 * vertices; ++c)
-      scale[c] = values[outer[c]] != 0 ? 1.0 / std::sqrt(std::abs(values[outer[c]])) : 1.0;
-    for (Index c = 0; c < 2 * vertices; ++c)
-      for (Index k = outer[c]; k < outer[c + 1]; ++k) values[k] *= scale[c] * scale[inner[k]];
-    std::copy(values, values + nonzeros, scaled.data());
-    for (double tau = 0;;) {
-      if (tau > 0) {
-        std::copy(scaled.data(), scaled.data() + nonzeros, values);
-        for (Index c = 0; c < 2 * vertices; ++c) values[outer[c]] += tau;
-      }
-      llt.factorize(pattern.A);
-      ++result.factorizations;
-      if (llt.info() == Eigen::Success) break;
-      PM_REQUIRE(tau < 1e8, ComputeError, "sphere_map_barrier: no positive definite Newton system");
-      tau = tau == 0 ? 1e-10 : 8 * tau;
-    }
-    step = -scale.cwiseProduct(llt.solve(scale.cwiseProduct(gradient)));
+    for (Index f = 0; f < faces; ++f) newton.add_face(f, face_gradient[f], face_hessian[f]);
   };
 
   // Newton steps on E for the per-face weights `weight` until the squared
@@ -258,13 +145,14 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
     PM_REQUIRE(std::isfinite(energy), ComputeError, "sphere_map_barrier: left the feasible set");
     for (int inner_step = 0; inner_step < o.max_round_steps && result.steps < o.max_steps; ++inner_step) {
       assemble(weight);
-      newton_step();
-      const double decrement = -gradient.dot(step);  // squared Newton decrement
+      step = newton.solve();
+      result.factorizations = newton.factorizations();
+      const double decrement = -newton.gradient().dot(step);  // squared Newton decrement
       if (decrement <= 2.0 * tolerance) return true;
       // Backtracking (Armijo); a step that crosses a bound has E = +inf.
       double t = 1.0, next = kInfinity;
       for (int k = 0; k < 60; ++k, t *= 0.5) {
-        move(X, T, step, t, trial);
+        newton.move(X, step, t, trial);
         next = sphere_barrier_energy(F, pull, bounds, weight, trial);
         if (next <= energy - 1e-4 * t * decrement) break;
       }
@@ -274,7 +162,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
       // they keep lowering E (spot: 52 steps instead of 60).
       if (t == 1.0) {
         for (double longer = 2.0; longer <= 1024.0; longer *= 2.0) {
-          move(X, T, step, longer, longer_trial);
+          newton.move(X, step, longer, longer_trial);
           const double further = sphere_barrier_energy(F, pull, bounds, weight, longer_trial);
           if (!(further < next)) break;
           trial.swap(longer_trial);
@@ -335,4 +223,4 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   return result;
 }
 
-}  // namespace paramorph::morph
+}  // namespace paramorph::spherical

@@ -21,7 +21,7 @@
 #include "common/progress.h"
 #include "mesh/types.h"
 
-namespace paramorph::morph {
+namespace paramorph::spherical {
 
 struct SphereBarrierOptions {
   double epsilon = 0;      ///< the absolute bound of (4.10)
@@ -65,4 +65,4 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
 double sphere_barrier_energy(const MatrixX3i& F, const MatrixX3d& pull, const VectorXd& bounds,
                              const VectorXd& mu, const MatrixX3d& X, MatrixX3d* gradient = nullptr);
 
-}  // namespace paramorph::morph
+}  // namespace paramorph::spherical

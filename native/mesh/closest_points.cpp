@@ -1,5 +1,5 @@
-// Closest points on a triangle mesh through CGAL's AABB tree (morph/closest_points.h).
-#include "morph/closest_points.h"
+// Closest points on a triangle mesh through CGAL's AABB tree (mesh/closest_points.h).
+#include "mesh/closest_points.h"
 
 #include <Eigen/Geometry>
 #include <vector>
@@ -11,7 +11,7 @@
 
 #include "common/errors.h"
 
-namespace paramorph::morph {
+namespace paramorph {
 
 namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -86,4 +86,4 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
   return out;
 }
 
-}  // namespace paramorph::morph
+}  // namespace paramorph

@@ -8,7 +8,7 @@
 
 #include "mesh/types.h"
 
-namespace paramorph::morph {
+namespace paramorph {
 
 struct ClosestPoints {
   VectorXi face;       ///< #Q: the face holding each closest point
@@ -37,4 +37,4 @@ class ClosestPointTree {
   MatrixX3i F_;
 };
 
-}  // namespace paramorph::morph
+}  // namespace paramorph

@@ -1,0 +1,24 @@
+// The frame a morph's correspondence is computed in (issue 16): each model
+// turned outward, centred on its area-weighted centroid and scaled to unit
+// area, so that an inside-out file (faces wound inwards), a model ten times
+// smaller or far from the origin is matched like any other. The morph itself
+// (the in-betweens) still uses the models as they are placed.
+#pragma once
+
+#include "mesh/types.h"
+
+namespace paramorph::morph {
+
+struct CorrespondenceFrame {
+  bool inside_out = false;     ///< the faces were wound inwards (negative enclosed volume)
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();  ///< area-weighted centroid
+  double scale = 1.0;          ///< square root of the surface area
+  MatrixX3d V;                 ///< (V - centre) / scale
+  MatrixX3i F;                 ///< the faces, each reversed when inside_out
+};
+
+/// V, F: a closed, consistently oriented mesh (its enclosed volume decides
+/// the orientation; not checked here) with positive area.
+CorrespondenceFrame correspondence_frame(const MatrixX3d& V, const MatrixX3i& F);
+
+}  // namespace paramorph::morph
