@@ -1,12 +1,18 @@
 """The morph as a Blender object (thesis 4.4): a new mesh on the merged
 topology whose Basis is the source and whose shape keys go to the target
-(optional in-between keys on the way), with the source's materials, smooth
-shading, UV layers and colour attributes carried over, and the key values keyframed over a
-frame range. numpy and foreach_set only; no Python loops over elements."""
+through in-between keys (as rigid as possible, issue 17), with the source's
+materials, smooth shading, UV layers and colour attributes carried over.
+One property, the object's "paramorph_morph" (0 to 1), drives the chain of
+keys and is keyframed over a frame range, so scrubbing plays the in-betweens
+in order. numpy and foreach_set only; no Python loops over elements."""
 import bpy
 import numpy as np
 
 from . import bridge
+from .morph_job import key_times
+
+# The object's custom property that drives the keys: 0 source, 1 target.
+MORPH_PROPERTY = "paramorph_morph"
 
 
 def _build_mesh(name, positions, faces):
@@ -78,48 +84,63 @@ def _carry_colors(source_mesh, mesh, result, tri_loops):
             mesh.color_attributes.active_color = out
 
 
-def _fcurves(key):
-    """The shape-key datablock's F-curves, before and after slotted actions (4.4+)."""
-    action = key.animation_data.action
-    if hasattr(action, "fcurves") and not hasattr(key.animation_data, "action_slot"):
+def _fcurves(id_data):
+    """An ID's F-curves, before and after slotted actions (4.4+)."""
+    action = id_data.animation_data.action
+    if hasattr(action, "fcurves") and not hasattr(id_data.animation_data, "action_slot"):
         return action.fcurves
     from bpy_extras import anim_utils
-    return anim_utils.action_get_channelbag_for_slot(action, key.animation_data.action_slot).fcurves
+    return anim_utils.action_get_channelbag_for_slot(action, id_data.animation_data.action_slot).fcurves
 
 
-def key_times(in_betweens):
-    """Morph times of the keys after Basis: the in-betweens, then the target (1)."""
-    return [(i + 1) / (in_betweens + 1) for i in range(in_betweens + 1)]
-
-
-def _animate(obj, keys, frame_start, frame_end, easing):
-    """Each key at full weight at its time and at 0 at its neighbours' times
-    (tent curves), so the shape passes through every key in order; with
-    `easing` the segments start and end slowly (Bezier), else linearly."""
-    times = [0.0] + key_times(len(keys) - 1)
-    frames = [frame_start + t * (frame_end - frame_start) for t in times]
+def drive_keys(obj, keys):
+    """Each key after Basis at full weight at its time on the morph property
+    and at 0 at its neighbours' times (tent drivers, simple expressions that
+    need no Python), so the shape passes through every key in order."""
+    if MORPH_PROPERTY not in obj:
+        obj[MORPH_PROPERTY] = 0.0
+    ui = obj.id_properties_ui(MORPH_PROPERTY)
+    ui.update(min=0.0, max=1.0, soft_min=0.0, soft_max=1.0,
+              description="Paramorph: how far the morph has gone (0 source, 1 target)")
+    count = len(keys)
     for i, key in enumerate(keys, start=1):
-        key.value = 0.0
-        for j in (i - 1, i, i + 1):
-            if j < len(frames):
-                key.value = 1.0 if j == i else 0.0
-                key.keyframe_insert("value", frame=frames[j])
-        key.value = 0.0
-    interpolation = "BEZIER" if easing else "LINEAR"
-    for curve in _fcurves(obj.data.shape_keys):
+        key.driver_remove("value")
+        driver = key.driver_add("value").driver
+        driver.type = "SCRIPTED"
+        variable = driver.variables.new()
+        variable.name = "morph"
+        variable.type = "SINGLE_PROP"
+        variable.targets[0].id_type = "OBJECT"
+        variable.targets[0].id = obj
+        variable.targets[0].data_path = f'["{MORPH_PROPERTY}"]'
+        driver.expression = f"max(0.0, 1.0 - abs(morph * {count} - {i}))"
+
+
+def _animate(obj, frame_start, frame_end, easing):
+    """The morph property from 0 at frame_start to 1 at frame_end; with
+    `easing` it starts and ends slowly (Bezier), else linearly."""
+    path = f'["{MORPH_PROPERTY}"]'
+    for frame, value in ((frame_start, 0.0), (frame_end, 1.0)):
+        obj[MORPH_PROPERTY] = value
+        obj.keyframe_insert(path, frame=frame)
+    obj[MORPH_PROPERTY] = 0.0
+    for curve in _fcurves(obj):
+        if curve.data_path != path:
+            continue
         for point in curve.keyframe_points:
-            point.interpolation = interpolation
+            point.interpolation = "BEZIER" if easing else "LINEAR"
             if easing:
                 point.handle_left_type = point.handle_right_type = "AUTO_CLAMPED"
         curve.update()
 
 
-def build(context, name, source, result, target_positions, *, tri_poly, tri_loops,
-          target_name="Target", in_betweens=0, frame_start=1, frame_end=48, easing=True):
+def build(context, name, source, result, target_positions, shapes, *, tri_poly, tri_loops,
+          target_name="Target", frame_start=1, frame_end=48, easing=True):
     """A new object `name` on the merged topology of `result` (paramorph_native.Morph),
     placed like `source` and linked to its collections: Basis = result.source,
-    keys "<target_name> 25%"... (in-betweens) and `target_name` = target_positions,
-    keyframed from frame_start to frame_end. Returns the object."""
+    keys "<target_name> 25%"... (the in-between `shapes`, evenly spaced) and
+    `target_name` = target_positions, driven by the object's morph property,
+    which is keyframed from frame_start to frame_end. Returns the object."""
     source_positions = np.asarray(result.source)
     mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
     _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
@@ -130,9 +151,9 @@ def build(context, name, source, result, target_positions, *, tri_poly, tri_loop
 
     obj.shape_key_add(name="Basis", from_mix=False)
     keys = []
-    for t in key_times(in_betweens):
+    for t, shape in zip(key_times(len(shapes)), list(shapes) + [target_positions]):
         key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
-        shape = (1.0 - t) * source_positions + t * target_positions
         keys.append(bridge.add_shape_key(obj, shape, key_name))
-    _animate(obj, keys, frame_start, frame_end, easing)
+    drive_keys(obj, keys)
+    _animate(obj, frame_start, frame_end, easing)
     return obj

@@ -17,7 +17,7 @@ succeeded."""
 import bpy
 import numpy as np
 
-from . import bridge, messages, morph_object, overlay
+from . import bridge, messages, morph_job, morph_object, overlay
 from .native import native
 from .native_operator import NativeOperator, UserError
 
@@ -392,8 +392,8 @@ class PARAMORPH_OT_clear_matches(bpy.types.Operator):
 
 class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operator):
     """Morph the selected mesh into the active one: a new object on a merged topology with
-    shape keys from the source's shape to the target's, keyframed over a frame range;
-    your pins hold exactly"""
+    shape keys from the source's shape through in-betweens to the target's, driven by one
+    property keyframed over a frame range; your pins hold exactly"""
     bl_idname = "paramorph.morph_to"
     bl_label = "Morph To"
     bl_options = {"REGISTER", "UNDO"}
@@ -401,9 +401,15 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
     frame_start: bpy.props.IntProperty(name="Start Frame", default=1, description="Frame where the morph starts")
     frame_end: bpy.props.IntProperty(name="End Frame", default=48, description="Frame where it reaches the target")
     in_betweens: bpy.props.IntProperty(
-        name="In-Betweens", default=0, min=0, max=16,
-        description="Shape keys between source and target (evenly spaced, each keyframed "
-                    "at full weight at its time) to sculpt the way")
+        name="In-Betweens", default=8, min=0, max=32,
+        description="Shape keys between source and target, evenly spaced and driven in order by the "
+                    "object's morph property: scrubbing plays them, and you can sculpt them")
+    interpolation: bpy.props.EnumProperty(
+        name="In-Betweens", default="ARAP",
+        items=(("ARAP", "As Rigid As Possible", "Parts turn and keep their shape on the way "
+                "(per-face rotations interpolated, one solve per key)"),
+               ("LINEAR", "Straight Lines", "Every point on a straight line (the thesis'; limbs that "
+                "turn get shorter and may pass through the body)")))
     easing: bpy.props.EnumProperty(
         name="Timing", default="EASE",
         items=(("LINEAR", "Linear", "Constant speed"),
@@ -436,25 +442,24 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         pins, pairs = constraints(context, source, target, use_pairs=self.use_preview and self.automatic)
         VA, FA, tri_poly, tri_loops = _arrays(context, source)
         VB, FB, _, _ = _arrays(context, target)
-        options = dict(self.correspondence_options(), automatic=self.automatic, pins=pins)
+        options = dict(self.correspondence_options(), automatic=self.automatic, pins=pins,
+                       in_betweens=self.in_betweens, interpolation=self.interpolation)
         if pairs is not None:
             options["pairs"] = pairs
+        if self.placement == "TARGET":
+            options["target_transform"] = np.array(source.matrix_world.inverted() @ target.matrix_world)
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": tri_poly, "tri_loops": tri_loops,
                  "previewed": pairs is not None}
-        return native.morph, (VA, FA, VB, FB), options, state
+        return morph_job.morph_with_in_betweens, (VA, FA, VB, FB), options, state
 
-    def finish(self, context, result, state):
+    def finish(self, context, outcome, state):
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
-        target_positions = np.asarray(result.target)
-        if self.placement == "TARGET":
-            to_source = np.array(source.matrix_world.inverted() @ target.matrix_world)
-            target_positions = target_positions @ to_source[:3, :3].T + to_source[:3, 3]
+        result = outcome.result
         obj = morph_object.build(
-            context, f"{source.name} to {target.name}", source, result, target_positions,
+            context, f"{source.name} to {target.name}", source, result, outcome.target, outcome.shapes,
             tri_poly=state["tri_poly"], tri_loops=state["tri_loops"], target_name=target.name,
-            in_betweens=self.in_betweens, frame_start=self.frame_start, frame_end=self.frame_end,
-            easing=self.easing == "EASE")
+            frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE")
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)
         context.view_layer.objects.active = obj

@@ -14,6 +14,8 @@ import pytest
 
 import make_samples
 from paramorph import jobs, ops_pins
+from paramorph.morph_object import MORPH_PROPERTY
+from paramorph.native import native
 
 pytestmark = pytest.mark.usefixtures("addon_scene")
 
@@ -101,7 +103,7 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     source, target = morph_pair()
     objects_before = set(bpy.data.objects)
     status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, frame_start=1, frame_end=21,
-                                  in_betweens=1, easing="LINEAR")
+                                  in_betweens=1, interpolation="LINEAR", easing="LINEAR")
     assert status == {"FINISHED"}
     # The report names the chosen candidate and its score, and what holds exactly.
     assert re.search(r"Morph To: Blob to Octopus, \d+ faces; chosen \w+ — .*score [0-9.e+-]+; "
@@ -131,7 +133,11 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     # The source's look comes along.
     assert [m.name for m in mesh.materials] == ["BlobSkin"]
     assert "UVMap" in mesh.uv_layers
-    # Tent keyframes: the in-between at full weight half way, the target at the end.
+    # One property drives the keys (tent drivers, simple expressions: no Python
+    # needed); it is keyframed 0 -> 1: the in-between at full weight half way,
+    # the target at the end.
+    drivers = morph.data.shape_keys.animation_data.drivers
+    assert len(drivers) == 2 and all(d.driver.is_simple_expression for d in drivers)
     assert key_value_at(morph, "Octopus 50%", 1) == pytest.approx(0.0)
     assert key_value_at(morph, "Octopus 50%", 11) == pytest.approx(1.0)
     assert key_value_at(morph, "Octopus", 11) == pytest.approx(0.0)
@@ -139,6 +145,40 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     assert key_value_at(morph, "Octopus", 21) == pytest.approx(1.0)
     # The inputs are untouched.
     assert source.data.shape_keys is None and target.data.shape_keys is None
+
+
+def evaluated_positions(obj):
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    return coordinates(evaluated.data.vertices)
+
+
+def test_in_betweens_are_as_rigid_as_possible_and_scrubbing_plays_them():
+    """The default in-betweens are the native as-rigid-as-possible ones (not
+    the straight mix), eight of them; scrubbing the timeline shows each key's
+    shape at its frame and a mix of neighbours between."""
+    source, target = morph_pair()
+    objects_before = set(bpy.data.objects)
+    assert bpy.ops.paramorph.morph_to(frame_start=1, frame_end=91, easing="LINEAR") == {"FINISHED"}
+    (morph,) = set(bpy.data.objects) - objects_before
+    blocks = morph.data.shape_keys.key_blocks
+    assert [k.name for k in blocks] == ["Basis"] + [f"Octopus {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Octopus"]
+    basis, end = coordinates(blocks["Basis"].data), coordinates(blocks["Octopus"].data)
+    faces = np.array([tuple(p.vertices) for p in morph.data.polygons], dtype=np.int32)
+    expected = native.ShapeInterpolation(basis, end, faces).at(4 / 9)
+    middle = coordinates(blocks["Octopus 44%"].data)
+    scale = np.ptp(end, axis=0).max()
+    assert np.abs(middle - expected).max() < 1e-4 * scale
+    assert np.abs(middle - (5 / 9 * basis + 4 / 9 * end)).max() > 1e-3 * scale  # not the straight mix
+    # Frame 41 is t = 4/9: the evaluated mesh is that key's shape; half way
+    # between two keys' frames it is their mean.
+    bpy.context.scene.frame_set(41)
+    assert morph[MORPH_PROPERTY] == pytest.approx(4 / 9)
+    np.testing.assert_allclose(evaluated_positions(morph), middle, atol=1e-5 * scale)
+    bpy.context.scene.frame_set(46)
+    after = coordinates(blocks["Octopus 56%"].data)
+    np.testing.assert_allclose(evaluated_positions(morph), 0.5 * (middle + after), atol=1e-4 * scale)
+    bpy.context.scene.frame_set(91)
+    np.testing.assert_allclose(evaluated_positions(morph), end, atol=1e-5 * scale)
 
 
 def test_target_placement_ends_where_the_target_is():
