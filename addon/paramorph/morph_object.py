@@ -157,3 +157,28 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
     drive_keys(obj, keys)
     _animate(obj, frame_start, frame_end, easing)
     return obj
+
+
+def add_morph_keys(context, obj, shapes, target_positions, *, target_name="Target", frame_start=1, frame_end=48,
+                   easing=True):
+    """Keep-topology morph: keys "<target_name> 11%"... (the in-between
+    `shapes`) and `target_name` (target_positions), (#vertices, 3) in the
+    object's own coordinates, added to `obj` itself relative to its Basis
+    (made from the mesh when it has none) and driven by its morph property,
+    keyframed from frame_start to frame_end. The keys of an earlier morph to
+    the same target are replaced; nothing else on the object changes."""
+    with bridge.object_mode(context, obj):
+        blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
+        stale = [k for k in blocks if k.name == target_name or
+                 (k.name.startswith(target_name + " ") and k.name.endswith("%"))]
+        for key in stale:
+            key.driver_remove("value")
+            obj.shape_key_remove(key)
+        if obj.data.shape_keys is None:
+            obj.shape_key_add(name="Basis", from_mix=False)
+        keys = []
+        for t, shape in zip(key_times(len(shapes)), list(shapes) + [target_positions]):
+            key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
+            keys.append(bridge.add_shape_key(obj, shape, key_name))
+        drive_keys(obj, keys)
+        _animate(obj, frame_start, frame_end, easing)

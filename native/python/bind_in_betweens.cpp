@@ -1,6 +1,6 @@
 // In-betweens of a morph and their checks: ShapeInterpolation
-// (morph/shape_interpolation.h) and self_intersections
-// (mesh/self_intersections.h).
+// (morph/shape_interpolation.h), self_intersections
+// (mesh/self_intersections.h) and surface_distance (mesh/surface_distance.h).
 
 #include <pybind11/stl.h>
 
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/self_intersections.h"
+#include "mesh/surface_distance.h"
 #include "morph/shape_interpolation.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
@@ -72,6 +73,26 @@ mismatched or malformed arrays.)doc")
       },
       py::arg("V"), py::arg("F"),
       "Faces that pass through other faces (CGAL's exact test; faces meeting only at a shared edge or vertex do not count).");
+
+  py::class_<SurfaceDistance>(m, "SurfaceDistance")
+      .def_readonly("a_to_b", &SurfaceDistance::a_to_b, "largest distance from A's samples to B")
+      .def_readonly("b_to_a", &SurfaceDistance::b_to_a, "largest distance from B's samples to A")
+      .def_readonly("mean_a_to_b", &SurfaceDistance::mean_a_to_b)
+      .def_readonly("mean_b_to_a", &SurfaceDistance::mean_b_to_a)
+      .def_property_readonly("hausdorff", &SurfaceDistance::hausdorff, "max(a_to_b, b_to_a)")
+      .def("__repr__", [](const SurfaceDistance& r) {
+        return "<SurfaceDistance a_to_b=" + std::to_string(r.a_to_b) + " b_to_a=" + std::to_string(r.b_to_a) + ">";
+      });
+  m.def(
+      "surface_distance",
+      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB) {
+        const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
+        const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
+        py::gil_scoped_release release;
+        return surface_distance(va, fa, vb, fb);
+      },
+      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"),
+      "Sampled distances between two surfaces (vertices, edge midpoints, face centroids to the other's closest points).");
 }
 
 }  // namespace paramorph::python

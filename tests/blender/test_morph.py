@@ -102,7 +102,7 @@ def key_value_at(obj, key_name, frame):
 def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     source, target = morph_pair()
     objects_before = set(bpy.data.objects)
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, frame_start=1, frame_end=21,
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", frame_start=1, frame_end=21,
                                   in_betweens=1, interpolation="LINEAR", easing="LINEAR")
     assert status == {"FINISHED"}
     # The report names the chosen candidate and its score, and what holds exactly.
@@ -158,7 +158,7 @@ def test_in_betweens_are_as_rigid_as_possible_and_scrubbing_plays_them():
     shape at its frame and a mix of neighbours between."""
     source, target = morph_pair()
     objects_before = set(bpy.data.objects)
-    assert bpy.ops.paramorph.morph_to(frame_start=1, frame_end=91, easing="LINEAR") == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", frame_start=1, frame_end=91, easing="LINEAR") == {"FINISHED"}
     (morph,) = set(bpy.data.objects) - objects_before
     blocks = morph.data.shape_keys.key_blocks
     assert [k.name for k in blocks] == ["Basis"] + [f"Octopus {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Octopus"]
@@ -183,7 +183,7 @@ def test_in_betweens_are_as_rigid_as_possible_and_scrubbing_plays_them():
 
 def test_target_placement_ends_where_the_target_is():
     source, target = morph_pair()
-    assert bpy.ops.paramorph.morph_to(placement="TARGET", automatic=False) == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", placement="TARGET", automatic=False) == {"FINISHED"}
     morph = bpy.context.view_layer.objects.active
     end = coordinates(morph.data.shape_keys.key_blocks["Octopus"].data)
     world = end @ np.array(morph.matrix_world)[:3, :3].T + np.array(morph.matrix_world)[:3, 3]
@@ -198,7 +198,7 @@ def test_a_pin_lands_exactly_on_its_partner(capfd):
     matches = bpy.context.scene.paramorph_matches
     assert [(p.vertex_a, p.vertex_b, p.pin) for p in matches.pairs] == [(a, b, True)]
     assert matches.source == source and matches.target == target
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, automatic=False)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False)
     assert status == {"FINISHED"} and "1 pin and 0 pairs held exactly" in report, report
     morph = bpy.context.view_layer.objects.active
     assert pin_gap(morph, source, target, a, b, "Octopus") <= 1e-6
@@ -257,7 +257,7 @@ def test_preview_matches_shows_the_candidates_keeps_the_pins_and_morph_uses_its_
     # Clear Pins keeps the automatic pairs; the morph uses the previewed pairs as edited.
     assert bpy.ops.paramorph.remove_pair(index=len(matches.pairs) - 1) == {"FINISHED"}
     kept = [(p.vertex_a, p.vertex_b) for p in matches.pairs if not p.pin]
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED")
     assert status == {"FINISHED"}
     assert re.search(rf"previewed pairs given — {len(kept)} pairs?.*1 pin and {len(kept)} pairs? held exactly",
                      report), report
@@ -283,7 +283,7 @@ def test_pins_are_saved_with_the_file_and_used_after_reloading(tmp_path):
     assert matches.source == source and matches.target == target
     assert [(p.vertex_a, p.vertex_b, p.pin) for p in matches.pairs] == [(a, b, True)]
     select_pair(source, target)
-    assert bpy.ops.paramorph.morph_to(automatic=False) == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", automatic=False) == {"FINISHED"}
     morph = bpy.context.view_layer.objects.active
     assert pin_gap(morph, source, target, a, b, "Octopus") <= 1e-6
 
@@ -296,13 +296,13 @@ def test_a_vertex_pinned_twice_is_reported_and_nothing_is_added():
     matches.pairs[1].vertex_a = 1  # edited in the panel's list
     objects_before = set(bpy.data.objects)
     with pytest.raises(RuntimeError, match=r"Blob → Octopus: pins 0 and 1 both pin vertex 1 of A"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     assert set(bpy.data.objects) == objects_before
     # An index edited past the mesh's end is reported by object and pin, not as a traceback.
     matches.pairs[1].vertex_a = 3
     matches.pairs[1].vertex_b = 99999
     with pytest.raises(RuntimeError, match=r"pin 1 \(3, 99999\): Octopus has no vertex 99999"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     assert set(bpy.data.objects) == objects_before
 
 
@@ -314,7 +314,7 @@ def test_pins_picked_on_other_geometry_are_an_error_not_ignored():
     bpy.context.scene.paramorph_matches.source = source
     select_pair(source, target)
     with pytest.raises(RuntimeError, match=r"pins of Blob → Octopus were picked on 162 and \d+ vertices"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
 
 
 def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
@@ -325,7 +325,7 @@ def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
     bpy.ops.mesh.flip_normals()
     bpy.ops.object.mode_set(mode="OBJECT")
     select_pair(source, target)
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, automatic=False)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False)
     assert status == {"FINISHED"}, report
     assert "Octopus's faces pointed inwards: turned for the morph" in report, report
     assert "Blob's faces" not in report
@@ -379,7 +379,7 @@ def test_a_mesh_with_a_hole_is_reported_by_name_and_nothing_is_added():
     select_pair(source, grid)
     objects_before = set(bpy.data.objects)
     with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
         bpy.ops.paramorph.preview_matches()
     assert set(bpy.data.objects) == objects_before
@@ -393,7 +393,7 @@ def test_morph_needs_two_meshes_and_a_cancelled_run_adds_nothing(monkeypatch):
     source.select_set(True)
     objects_before = set(bpy.data.objects)
     monkeypatch.setattr(jobs.NativeJob, "_progress", lambda self, fraction, stage: False)
-    assert bpy.ops.paramorph.morph_to() == {"CANCELLED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED") == {"CANCELLED"}
     assert bpy.ops.paramorph.preview_matches() == {"CANCELLED"}
     assert set(bpy.data.objects) == objects_before
     assert len(bpy.context.scene.paramorph_matches.candidates) == 0
