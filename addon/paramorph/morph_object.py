@@ -1,7 +1,8 @@
 """The morph as a Blender object (thesis 4.4): a new mesh on the merged
 topology whose Basis is the source and whose shape keys go to the target
 through in-between keys (as rigid as possible, issue 17), with the source's
-materials, smooth shading, UV layers and colour attributes carried over.
+materials, smooth shading, UV layers, colour attributes and vertex groups
+carried over.
 One property, the object's "paramorph_morph" (0 to 1), drives the chain of
 keys and is keyframed over a frame range, so scrubbing plays the in-betweens
 in order. numpy and foreach_set only; no Python loops over elements."""
@@ -60,6 +61,38 @@ def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops):
     if source_mesh.uv_layers.active is not None:
         mesh.uv_layers.active = mesh.uv_layers[source_mesh.uv_layers.active.name]
     _carry_colors(source_mesh, mesh, result, tri_loops)
+
+
+def _carry_vertex_groups(source, obj, result, tri_loops):
+    """The source's vertex groups on the merged vertices: each weight
+    interpolated over the face of the source holding the merged vertex (0
+    where a vertex is in no group). Empty groups are made too, so a rig that
+    names them finds them."""
+    if not source.vertex_groups:
+        return
+    mesh = source.data
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    faces = loop_vertex[tri_loops]  # the triangles the morph was given
+    if result.inside_out_a:
+        faces = faces[:, [0, 2, 1]]  # as the morph turned them
+    merged = result.merged
+    corners = faces[np.asarray(merged.face_a)]  # (M, 3) source vertices around each merged vertex
+    bary = np.asarray(merged.bary_a)
+    weights = np.zeros((len(source.vertex_groups), len(mesh.vertices)))
+    for vertex in mesh.vertices:  # sparse memberships: no foreach_get for them
+        for membership in vertex.groups:
+            if membership.group < len(weights):
+                weights[membership.group, vertex.index] = membership.weight
+    for index, group in enumerate(source.vertex_groups):
+        carried = np.round((bary * weights[index][corners]).sum(axis=1), 6)
+        out = obj.vertex_groups.new(name=group.name)
+        members = np.flatnonzero(carried > 0)
+        values, which = np.unique(carried[members], return_inverse=True)
+        batches = np.split(members[np.argsort(which, kind="stable")], np.cumsum(np.bincount(which))[:-1])
+        for value, batch in zip(values, batches):  # one add() per distinct weight
+            out.add(batch.tolist(), float(value), "REPLACE")
+    obj.vertex_groups.active_index = source.vertex_groups.active_index
 
 
 def _carry_colors(source_mesh, mesh, result, tri_loops):
@@ -145,6 +178,7 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
     mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
     _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
     obj = bpy.data.objects.new(name, mesh)
+    _carry_vertex_groups(source, obj, result, tri_loops)
     for collection in source.users_collection or (context.collection,):
         collection.objects.link(obj)
     obj.matrix_world = source.matrix_world.copy()

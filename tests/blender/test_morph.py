@@ -48,6 +48,8 @@ def morph_pair(source_subdivisions=3):
     material = bpy.data.materials.new("BlobSkin")
     source.data.materials.append(material)
     bpy.ops.mesh.uv_texture_add()  # a UV layer to carry ("UVMap")
+    top = source.vertex_groups.new(name="Top")  # a vertex group to carry: the upper cap
+    top.add([v.index for v in source.data.vertices if v.co.z > 0.3], 1.0, "REPLACE")
     target = make_samples.build_octopus(subdivisions=3, limbs=4)
     target.location = (4.0, 0.0, 0.0)
     select_pair(source, target)
@@ -130,9 +132,21 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     mesh.loops.foreach_get("edge_index", loop_edges)
     np.add.at(edge_faces, loop_edges, 1)
     assert np.all(edge_faces == 2)
-    # The source's look comes along.
+    # The source's look comes along, and its vertex groups: the weight of a
+    # merged vertex interpolates the source's over the face holding it.
     assert [m.name for m in mesh.materials] == ["BlobSkin"]
     assert "UVMap" in mesh.uv_layers
+    assert [g.name for g in morph.vertex_groups] == ["Top"]
+    source_top = (coordinates(source.data.vertices)[:, 2] > 0.3).astype(float)
+    merged_weight = np.zeros(len(mesh.vertices))
+    for v in mesh.vertices:
+        for g in v.groups:
+            merged_weight[v.index] = g.weight
+    # The source's vertices come first among the merged ones, with their own weights.
+    assert 0 < source_top.sum() < len(source_top)
+    np.testing.assert_allclose(merged_weight[:len(source_top)], source_top, atol=1e-6)
+    assert np.all((merged_weight >= 0) & (merged_weight <= 1))
+    assert np.any((merged_weight > 0.01) & (merged_weight < 0.99))  # interpolated along the group's edge
     # One property drives the keys (tent drivers, simple expressions: no Python
     # needed); it is keyframed 0 -> 1: the in-between at full weight half way,
     # the target at the end.
