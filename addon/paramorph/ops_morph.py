@@ -479,7 +479,8 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)
         context.view_layer.objects.active = obj
-        return morph_report(obj, result, source, target, state["previewed"])
+        input_faces = len(state["arrays_source"][1]) + len(state["arrays_target"][1])
+        return morph_report(obj, result, source, target, state["previewed"], input_faces)
 
 
 # The last finished Morph To in this session: {"object", "chosen", "held", "notes"}
@@ -529,8 +530,9 @@ def keep_report(source, target, outcome, previewed=False):
     return line, coarse
 
 
-def morph_report(obj, result, source, target, previewed=False):
-    """Morph To's one-line report: the chosen candidate, what holds exactly, inside-out files, time."""
+def morph_report(obj, result, source, target, previewed=False, input_faces=0):
+    """Morph To's one-line report: the merged faces against the inputs', the chosen
+    candidate, what holds exactly, inside-out files, time."""
     global last_morph
     pins = int(np.count_nonzero(np.asarray(result.pair_is_pin)))
     pairs = len(result.pairs) - pins
@@ -540,7 +542,10 @@ def morph_report(obj, result, source, target, previewed=False):
     seconds = result.timings[-1][1] if result.timings else 0.0
     notes = inside_out_note(result, source, target)
     last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
-    return (f"Morph To: {obj.name}, {len(result.faces)} faces; {how} {candidate_line(chosen)}; {held}"
+    size = f" ({len(result.faces) / input_faces:.1f}x the inputs' {input_faces})" if input_faces else ""
+    welded = result.weld.collapsed_edges
+    size += f", {_count(welded, 'pair')} of near-coincident vertices welded" if welded else ""
+    return (f"Morph To: {obj.name}, {len(result.faces)} faces{size}; {how} {candidate_line(chosen)}; {held}"
             + "".join(f"; {n}" for n in notes) + f"; {seconds:.1f} s")
 
 
