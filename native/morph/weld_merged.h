@@ -4,16 +4,22 @@
 // merged mesh has edges of nearly zero length and faces of nearly zero area
 // at one end or both (slivers: the in-betweens cannot tell which way such a
 // face points). Here:
-//   1. an edge shorter than `tolerance` times the diagonal at both ends is
-//      collapsed, the vertex that stands for an input vertex kept (a vertex
-//      of A keeps its exact place on A, one of B on B), never two vertices of
-//      one input, and only where no face around it turns over (on the
-//      sphere, exactly, or at either end) and the mesh stays a manifold;
+//   1. an edge shorter than 1e-4 of the diagonal at either end is collapsed
+//      where every face it leaves stays inside one face of A and one of B
+//      within `tolerance` times the diagonal (so the carry still reads each
+//      corner in its faces and both ends stay within that of A and B), the
+//      old faces are covered as closely, no face around turns over (on the
+//      sphere, exactly and no thinner than the overlay leaves them, or at
+//      either end), the mesh stays a manifold, and never two vertices of one
+//      input are joined; the vertex that stands for an input vertex is kept
+//      at its exact place on that input;
 //   2. a face of (nearly) zero area at either end inside one cell of the
 //      overlay (its neighbour across its longest side in the same face of A
 //      and of B: the four corners are coplanar at both ends) has that side
 //      flipped where both new faces are better, which keeps both ends exact.
-// Both ends move by at most `tolerance` times their diagonals.
+// What it cannot remove: whole tiny triangles around an input vertex that
+// lies a few 1e-6 of the diagonal from the other input's edge (joining them
+// would move an end further than the tolerance).
 #pragma once
 
 #include "mesh/types.h"

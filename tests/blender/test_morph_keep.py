@@ -140,3 +140,19 @@ def test_automatic_topology_follows_what_hangs_on_the_source():
     select_pair(bare, target)
     assert bpy.ops.paramorph.morph_to(in_betweens=1) == {"FINISHED"}
     assert [k.name for k in bare.data.shape_keys.key_blocks] == ["Basis", "Octopus 50%", "Octopus"]
+
+
+def test_a_cancelled_keep_topology_morph_leaves_the_source_as_it_was(monkeypatch):
+    """Cancelled during the native call or between in-betweens: no key, no
+    property, no driver on the source."""
+    from paramorph import jobs
+    source = make_samples.build_octopus(name="Octopus", subdivisions=3, limbs=4)
+    target = make_samples.build_blob(name="Blob", subdivisions=3)
+    target.location = (4.0, 0.0, 0.0)
+    rigged(source)
+    select_pair(source, target)
+    for stop_at in (0.0, 0.9):  # in the morph; in the in-betweens (after 85 %)
+        monkeypatch.setattr(jobs.NativeJob, "_progress", lambda self, fraction, stage: fraction < stop_at)
+        assert bpy.ops.paramorph.morph_to(topology="KEEP") == {"CANCELLED"}
+        assert source.data.shape_keys is None and MORPH_PROPERTY not in source
+        assert source.animation_data is None or source.animation_data.action is None
