@@ -182,14 +182,8 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
     for collection in source.users_collection or (context.collection,):
         collection.objects.link(obj)
     obj.matrix_world = source.matrix_world.copy()
-
-    obj.shape_key_add(name="Basis", from_mix=False)
-    keys = []
-    for t, shape in zip(key_times(len(shapes)), list(shapes) + [target_positions]):
-        key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
-        keys.append(bridge.add_shape_key(obj, shape, key_name))
-    drive_keys(obj, keys)
-    _animate(obj, frame_start, frame_end, easing)
+    add_morph_keys(context, obj, shapes, target_positions, target_name=target_name, frame_start=frame_start,
+                   frame_end=frame_end, easing=easing)
     return obj
 
 
