@@ -21,11 +21,13 @@ would in the UI, and writes the result.
                    [--blend-radius B] [--subdivision-level L] [--basis polyharmonic|wendland]
                    [--fit keep_form|follow_surface] [--resolution N] [--backend ...]
 
-morph builds the object "<source> to <target>" on the merged topology of A's
-and B's meshes with shape keys from A's shape to B's (K in-betweens, as rigid
-as possible, or on straight lines with --straight), driven by the object's
-"paramorph_morph" property keyframed over N frames from frame F (the scene's
-frame range is set to it), and saves the .blend.
+morph builds shape keys from A's shape to B's (K in-betweens, as rigid as
+possible, or on straight lines with --straight): on A's own object when its
+topology is kept (--topology keep, or auto when A has an armature, vertex
+groups or UVs, as an OBJ with UVs does), else on the new object "<source> to
+<target>" on the merged topology of both meshes; the keys are driven by that
+object's "paramorph_morph" property, keyframed over N frames from frame F
+(the scene's frame range is set to it), and the .blend is saved.
 Each --pin takes vertex A_VERTEX of A exactly onto vertex B_VERTEX of B (Add
 Pin); --no-automatic leaves the correspondence to the pins and the objects'
 placement (Morph To's Automatic Matching off). It prints the candidate the

@@ -153,6 +153,10 @@ def _animate(obj, frame_start, frame_end, easing):
     """The morph property from 0 at frame_start to 1 at frame_end; with
     `easing` it starts and ends slowly (Bezier), else linearly."""
     path = f'["{MORPH_PROPERTY}"]'
+    if obj.animation_data is not None and obj.animation_data.action is not None:
+        curves = _fcurves(obj)
+        for curve in [c for c in curves if c.data_path == path]:  # an earlier morph's timing
+            curves.remove(curve)
     for frame, value in ((frame_start, 0.0), (frame_end, 1.0)):
         obj[MORPH_PROPERTY] = value
         obj.keyframe_insert(path, frame=frame)
@@ -187,18 +191,35 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
     return obj
 
 
+def _morph_keys(obj):
+    """Names of the object's keys driven by its morph property (an earlier
+    morph, to this target or another: one property drives one morph)."""
+    keys = obj.data.shape_keys
+    if keys is None or keys.animation_data is None:
+        return set()
+    names = set()
+    for curve in keys.animation_data.drivers:
+        if any(t.id == obj and t.data_path == f'["{MORPH_PROPERTY}"]'
+               for v in curve.driver.variables for t in v.targets):
+            names.add(curve.data_path.split('"')[1])
+    return names
+
+
 def add_morph_keys(context, obj, shapes, target_positions, *, target_name="Target", frame_start=1, frame_end=48,
                    easing=True):
     """Keep-topology morph: keys "<target_name> 11%"... (the in-between
     `shapes`) and `target_name` (target_positions), (#vertices, 3) in the
     object's own coordinates, added to `obj` itself relative to its Basis
     (made from the mesh when it has none) and driven by its morph property,
-    keyframed from frame_start to frame_end. The keys of an earlier morph to
-    the same target are replaced; nothing else on the object changes."""
+    keyframed from frame_start to frame_end. An earlier morph's keys (driven by
+    the property, or named after this target) and timing are replaced; nothing
+    else on the object changes."""
     with bridge.object_mode(context, obj):
-        blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
-        stale = [k for k in blocks if k.name == target_name or
-                 (k.name.startswith(target_name + " ") and k.name.endswith("%"))]
+        stale = _morph_keys(obj) | {target_name} | \
+            {k.name for k in (obj.data.shape_keys.key_blocks if obj.data.shape_keys else ())
+             if k.name.startswith(target_name + " ") and k.name.endswith("%")}
+        stale = [obj.data.shape_keys.key_blocks[name] for name in stale
+                 if obj.data.shape_keys and name in obj.data.shape_keys.key_blocks]
         for key in stale:
             key.driver_remove("value")
             obj.shape_key_remove(key)

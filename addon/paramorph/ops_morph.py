@@ -544,7 +544,7 @@ def morph_report(obj, result, source, target, previewed=False, input_faces=0):
     last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
     size = f" ({len(result.faces) / input_faces:.1f}x the inputs' {input_faces})" if input_faces else ""
     welded = result.weld.collapsed_edges
-    size += f", {_count(welded, 'pair')} of near-coincident vertices welded" if welded else ""
+    size += f", {_count(welded, 'short edge')} welded" if welded else ""
     return (f"Morph To: {obj.name}, {len(result.faces)} faces{size}; {how} {candidate_line(chosen)}; {held}"
             + "".join(f"; {n}" for n in notes) + f"; {seconds:.1f} s")
 

@@ -21,8 +21,8 @@
 //   4. the two maps are overlaid into one merged topology (overlay, 4.4);
 //   5. every merged vertex's position on A and on B from its barycentric
 //      coordinates: the source and target of the morph (4.4); then the merged
-//      mesh is welded (weld_merged: edges of nearly zero length at both ends
-//      collapsed, slivers flipped inside their cells).
+//      mesh is welded (weld_merged: short edges collapsed where both ends
+//      stay within 1e-6 of the diagonal, slivers flipped inside their cells).
 #pragma once
 
 #include <array>
@@ -51,8 +51,9 @@ struct MorphOptions {
   std::vector<std::array<Index, 2>> pins;
   CorrespondenceOptions correspondence;
   OverlayOptions overlay;
-  /// Weld the merged mesh (weld_merged): vertices closer than this times the
-  /// diagonal at both ends, slivers flipped inside their cells; 0: off.
+  /// Weld the merged mesh (weld_merged): short edges collapsed where every
+  /// face stays within this share of the diagonal of one face of each input,
+  /// slivers flipped inside their cells; 0: off.
   double weld_tolerance = 1e-6;
 };
 

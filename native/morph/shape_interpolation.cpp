@@ -292,6 +292,7 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   for (Index f = 0; f < m; ++f) {
     const double w = face_weight_[f];
     for (int c = 0; c < 3; ++c) {
+      if (F(f, c) == F(f, (c + 1) % 3)) continue;  // a repeated vertex: no edge
       const Index i = unknown_[F(f, c)], j = unknown_[F(f, (c + 1) % 3)];
       if (i >= 0) entries.emplace_back(i, i, w);
       if (j >= 0) entries.emplace_back(j, j, w);
@@ -350,6 +351,7 @@ MatrixX3d ShapeInterpolation::fit(double t) const {
     const Eigen::Matrix3d J = face_degenerate_[f] ? Eigen::Matrix3d::Identity() : wish(f, t, true);
     for (int c = 0; c < 3; ++c) {
       const Index a = F_(f, c), b = F_(f, (c + 1) % 3);
+      if (a == b) continue;
       const Eigen::Vector3d wanted = wanted_edge(source_, target_, a, b, face_degenerate_[f], J, G, Gt, t);
       if (unknown_[b] >= 0) rhs.row(unknown_[b]) += w * wanted.transpose();
       if (unknown_[a] >= 0) rhs.row(unknown_[a]) -= w * wanted.transpose();
@@ -424,6 +426,7 @@ Index ShapeInterpolation::repair(double t, int rings, MatrixX3d& X) const {
       const Eigen::Matrix3d J = face_degenerate_[f] ? Eigen::Matrix3d::Identity() : wish(f, t, false);
       for (int c = 0; c < 3; ++c) {
         const Index a = F_(f, c), b = F_(f, (c + 1) % 3), i = row[a], j = row[b];
+        if (a == b) continue;
         const Eigen::RowVector3d wanted =
             wanted_edge(source_, target_, a, b, face_degenerate_[f], J, G, Gt, t).transpose();
         // w |x_b - x_a - wanted|^2
@@ -439,14 +442,45 @@ Index ShapeInterpolation::repair(double t, int rings, MatrixX3d& X) const {
       }
     }
   if (!held) return Index(turned.size());  // a whole part turned over: nothing to hold it by
+  // Every cluster of free vertices must touch a held one, or its fit is singular.
+  {
+    std::vector<Index> parent(free.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    std::vector<char> anchored(free.size(), 0);
+    for (const auto& e : entries) {
+      if (e.row() == e.col()) continue;
+      Index x = Index(e.row()), y = Index(e.col());
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      while (parent[y] != y) y = parent[y] = parent[parent[y]];
+      parent[x] = y;
+    }
+    for (Index v : free)
+      for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p)
+        for (int c = 0; c < 3; ++c)
+          if (row[F_(vertex_faces_[p], c)] < 0) anchored[std::size_t(row[v])] = 1;
+    std::vector<char> cluster_held(free.size(), 0);
+    auto root = [&](Index x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (std::size_t k = 0; k < free.size(); ++k)
+      if (anchored[k]) cluster_held[std::size_t(root(Index(k)))] = 1;
+    for (std::size_t k = 0; k < free.size(); ++k)
+      if (!cluster_held[std::size_t(root(Index(k)))]) return Index(turned.size());
+  }
   Eigen::SparseMatrix<double> H(Index(free.size()), Index(free.size()));
   H.setFromTriplets(entries.begin(), entries.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
   if (solver.info() != Eigen::Success) return Index(turned.size());
   const Eigen::MatrixXd solved = solver.solve(rhs);
   if (!solved.allFinite()) return Index(turned.size());
-  for (std::size_t k = 0; k < free.size(); ++k) X.row(free[k]) = solved.row(Index(k));
-  return Index(turned_over(X).size());
+  // Kept only when fewer faces are turned over than before.
+  MatrixX3d repaired = X;
+  for (std::size_t k = 0; k < free.size(); ++k) repaired.row(free[k]) = solved.row(Index(k));
+  const Index left = Index(turned_over(repaired).size());
+  if (left >= Index(turned.size())) return Index(turned.size());
+  X = std::move(repaired);
+  return left;
 }
 
 }  // namespace paramorph::morph

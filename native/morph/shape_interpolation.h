@@ -35,9 +35,10 @@
 // by the inverse of its size), not the cotangent one, so zero-area faces of a
 // merged mesh cannot make it indefinite; a face of (nearly) zero area at
 // either end has no reliable J and asks for its edges turned by G(t) and
-// interpolated straight, with a small weight. Each connected part keeps the
-// mean of its vertices on the straight line between the ends. At t = 0 and
-// t = 1 the fit is exact: every face asks for its own edges.
+// interpolated straight, with a small weight. The fit keeps each connected
+// part's vertex mean on the straight line between the ends (the local repairs
+// then move a few vertices). At t = 0 and t = 1 the fit is exact: every face
+// asks for its own edges.
 #pragma once
 
 #include <Eigen/Core>
@@ -75,8 +76,8 @@ class ShapeInterpolation {
   /// The whole fit of every face's wish.
   MatrixX3d fit(double t) const;
   /// Refits the vertices of faces turned over at t (and `rings` rings around
-  /// them) to the faces' own wishes, the rest held. Returns the faces still
-  /// turned over.
+  /// them) to the faces' own wishes, the rest held; kept only when fewer
+  /// faces are turned over after. Returns the faces still turned over.
   Index repair(double t, int rings, MatrixX3d& X) const;
   std::vector<Index> turned_over(const MatrixX3d& X) const;
 

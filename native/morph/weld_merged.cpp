@@ -166,7 +166,9 @@ WeldStats weld_merged(MergedTopology& g, MatrixX3d& source_positions, MatrixX3d&
     if ((a_of[u0] >= 0 && a_of[v0] >= 0) || (b_of[u0] >= 0 && b_of[v0] >= 0)) continue;  // one input's two vertices
     // Keep the vertex tied to more inputs; an input's vertex keeps its place on that input.
     const int anchors_u = (a_of[u0] >= 0) + (b_of[u0] >= 0), anchors_v = (a_of[v0] >= 0) + (b_of[v0] >= 0);
-    const Index keep = anchors_u > anchors_v ? u0 : v0, drop = keep == u0 ? v0 : u0;
+    // Ties keep the lower index (u0 < v0): A's vertices, first among the merged
+    // ones (vertex_of_a[i] == i), are never the one dropped.
+    const Index keep = anchors_u >= anchors_v ? u0 : v0, drop = keep == u0 ? v0 : u0;
     const Eigen::RowVector3d at_a = a_of[drop] >= 0 ? m.source.row(drop) : m.source.row(keep);
     const Eigen::RowVector3d at_b = b_of[drop] >= 0 ? m.target.row(drop) : m.target.row(keep);
     const std::vector<Index> around_drop = mesh.alive_faces_of(drop), around_keep = mesh.alive_faces_of(keep);
@@ -307,6 +309,7 @@ WeldStats weld_merged(MergedTopology& g, MatrixX3d& source_positions, MatrixX3d&
       }
       mesh.faces_of[opposite].push_back(other);
       mesh.faces_of[across].push_back(f);
+      rebary[f] = rebary[other] = char(rebary[f] || rebary[other]);  // a corner copied from a welded face
       ++flipped;
     }
     stats.flipped_edges += flipped;

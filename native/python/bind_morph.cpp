@@ -447,9 +447,10 @@ wins, so automatic pairs are used only when they beat no pairs
 hard: the pinned vertex of A lands exactly on its partner at t = 1. pairs:
 (k, 2) to use instead of the automatic candidates (e.g. an edited preview).
 The maps are overlaid (4.4) into one merged topology, which is then welded
-(weld_tolerance: edges shorter than this share of the diagonal at both ends
-collapsed, faces of nearly zero area flipped inside their cells; both ends
-move by at most that; 0: off; morph.weld says what it did).
+(edges under 1e-4 of the diagonal at either end collapsed where every face
+stays inside one face of each input within weld_tolerance of the diagonal,
+faces of nearly zero area flipped inside their cells; both ends move by at
+most weld_tolerance; 0: off; morph.weld says what it did).
 
 Returns Morph: faces, sphere, source (A as placed), target (B as placed),
 vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, candidates,

@@ -108,11 +108,21 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     np.testing.assert_allclose(turned, end @ R.T, atol=1e-4 * scale)
     assert np.abs(turned - rest).max() > 0.1 * scale
 
-    # Morph To again replaces its keys (here with three in-betweens on straight lines).
+    # Morph To again replaces its keys and timing (three in-betweens on straight
+    # lines, frames 1-21), and a morph to another target replaces them too.
     select_pair(source, target)
-    assert bpy.ops.paramorph.morph_to(in_betweens=3, interpolation="LINEAR") == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(in_betweens=3, interpolation="LINEAR", frame_start=1,
+                                      frame_end=21) == {"FINISHED"}
     assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Blob 25%", "Blob 50%", "Blob 75%", "Blob"]
     assert len(source.data.shape_keys.animation_data.drivers) == 4
+    bpy.context.scene.frame_set(21)
+    assert source[MORPH_PROPERTY] == pytest.approx(1.0)
+    other = make_samples.build_blob(name="Other", subdivisions=2)
+    other.location = (-4.0, 0.0, 0.0)
+    select_pair(source, other)
+    assert bpy.ops.paramorph.morph_to(in_betweens=1) == {"FINISHED"}
+    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Other 50%", "Other"]
+    assert len(source.data.shape_keys.animation_data.drivers) == 2
 
 
 def test_a_target_finer_than_the_source_is_warned_about_not_refused(capfd):

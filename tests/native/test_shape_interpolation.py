@@ -123,6 +123,15 @@ def test_zero_area_faces_follow_their_neighbours():
     assert np.abs(interp.at(1.0) - W).max() < 1e-9
 
 
+def test_a_face_with_a_repeated_vertex_adds_nothing():
+    """A face (a, a, b) has no area and one real edge: the rest still turns rigidly."""
+    V, F = meshes.icosphere(2)
+    W = V @ rotation([0, 1, 0], 80).T
+    with_bad = np.vstack([F, [[F[0, 0], F[0, 0], F[0, 1]]]]).astype(np.int32)
+    P = pm.ShapeInterpolation(V, W, with_bad).at(0.5)
+    assert np.abs(P - V @ rotation([0, 1, 0], 40).T).max() < 1e-6
+
+
 @pytest.mark.parametrize("bad", ["rows", "index", "nan"])
 def test_bad_input_is_refused(bad):
     V, F = meshes.icosphere(1)

@@ -40,6 +40,7 @@ def test_welding_removes_slivers_and_keeps_both_ends(welded_and_not):
         distance = pm.surface_distance(P, F, V, Fin)
         assert distance.hausdorff <= 1e-6 * d
     # Every input vertex is still one merged vertex, exactly at its place; the pin holds.
+    np.testing.assert_array_equal(np.asarray(m.vertex_of_a), np.arange(len(VA)))  # A's vertices first, in order
     np.testing.assert_array_equal(S[np.asarray(m.vertex_of_a)], VA)
     np.testing.assert_array_equal(T[np.asarray(m.vertex_of_b)], VB)
     assert len(np.unique(np.asarray(m.vertex_of_a))) == len(VA)
