@@ -49,7 +49,7 @@ def main():
           + f"; {len(matches.pairs)} pairs of {len(matches.candidates)} candidates", flush=True)
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, args.frames
-    bpy.ops.paramorph.morph_to(frame_start=1, frame_end=args.frames, easing="EASE")
+    bpy.ops.paramorph.morph_to(topology="MERGED", frame_start=1, frame_end=args.frames, easing="EASE")
     morph = bpy.context.view_layer.objects.active
     print(f"demo: {morph.name}: {len(morph.data.vertices)} vertices, {len(morph.data.polygons)} faces, "
           f"shape keys {[k.name for k in morph.data.shape_keys.key_blocks]}", flush=True)

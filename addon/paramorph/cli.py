@@ -10,7 +10,8 @@ would in the UI, and writes the result.
     common: [--object NAME ...] [--backend auto|cpu|opencl]
 
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- morph A B -o OUT.blend
-                   [--frames N] [--start F] [--in-betweens K] [--linear]
+                   [--frames N] [--start F] [--in-betweens K] [--straight] [--linear]
+                   [--topology auto|keep|merged]
                    [--pin A_VERTEX B_VERTEX ...] [--no-automatic]
                    [--source-object NAME] [--target-object NAME] [--backend ...]
 
@@ -20,9 +21,13 @@ would in the UI, and writes the result.
                    [--blend-radius B] [--subdivision-level L] [--basis polyharmonic|wendland]
                    [--fit keep_form|follow_surface] [--resolution N] [--backend ...]
 
-morph builds the object "<source> to <target>" on the merged topology of A's
-and B's meshes with shape keys from A's shape to B's, keyframed over N frames
-from frame F (the scene's frame range is set to it), and saves the .blend.
+morph builds shape keys from A's shape to B's (K in-betweens, as rigid as
+possible, or on straight lines with --straight): on A's own object when its
+topology is kept (--topology keep, or auto when A has an armature, vertex
+groups or UVs, as an OBJ with UVs does), else on the new object "<source> to
+<target>" on the merged topology of both meshes; the keys are driven by that
+object's "paramorph_morph" property, keyframed over N frames from frame F
+(the scene's frame range is set to it), and the .blend is saved.
 Each --pin takes vertex A_VERTEX of A exactly onto vertex B_VERTEX of B (Add
 Pin); --no-automatic leaves the correspondence to the pins and the objects'
 placement (Morph To's Automatic Matching off). It prints the candidate the
@@ -127,8 +132,13 @@ def build_parser():
     morph.add_argument("-o", "--output", required=True, metavar="OUT", help="output .blend file")
     morph.add_argument("--frames", type=int, default=48, metavar="N", help="length of the morph (default 48)")
     morph.add_argument("--start", type=int, default=1, metavar="F", help="first frame (default 1)")
-    morph.add_argument("--in-betweens", type=int, default=0, metavar="K",
-                       help="shape keys between source and target (default 0)")
+    morph.add_argument("--in-betweens", type=int, default=8, metavar="K",
+                       help="shape keys between source and target (default 8)")
+    morph.add_argument("--topology", choices=("auto", "keep", "merged"), default="auto",
+                       help="keep A's own topology (shape keys on A's object), a merged one (a new object), or "
+                            "auto: keep when A has an armature, vertex groups or UVs (default)")
+    morph.add_argument("--straight", action="store_true",
+                       help="in-betweens on straight lines (the thesis') instead of as rigid as possible")
     morph.add_argument("--linear", action="store_true", help="constant speed instead of eased")
     morph.add_argument("--pin", nargs=2, type=int, action="append", dest="pins", default=[],
                        metavar=("A_VERTEX", "B_VERTEX"),
@@ -498,14 +508,18 @@ def morph_main(args):
         scene.frame_start, scene.frame_end = args.start, args.start + args.frames - 1
         call_operator(bpy.ops.paramorph.morph_to, frame_start=scene.frame_start, frame_end=scene.frame_end,
                       in_betweens=args.in_betweens, easing="LINEAR" if args.linear else "EASE",
+                      interpolation="LINEAR" if args.straight else "ARAP", topology=args.topology.upper(),
                       automatic=args.automatic, use_preview=False)
-        result = bpy.context.view_layer.objects.active
+        summary = sys.modules[f"{package}.ops_morph"].last_morph
+        result = bpy.data.objects[summary["object"]]  # the new object, or A's own when its topology is kept
         keys = len(result.data.shape_keys.key_blocks) - 1
         print(f"{name}: {result.name}: {len(result.data.vertices)} vertices, {len(result.data.polygons)} faces, "
               f"{keys} shape key{'' if keys == 1 else 's'}, frames {scene.frame_start}-{scene.frame_end}",
               flush=True)
-        summary = sys.modules[f"{package}.ops_morph"].last_morph
         print(f"{name}: {summary['chosen']}; {summary['held']}", flush=True)
+        if "hausdorff" in summary:
+            print(f"{name}: kept {result.name}'s topology; Hausdorff distance to the target "
+                  f"{100 * summary['hausdorff']:.2g} % of its diagonal", flush=True)
         for note in summary["notes"]:
             print(f"{name}: {note}", flush=True)
         out = os.path.abspath(args.output)

@@ -1,12 +1,19 @@
 """The morph as a Blender object (thesis 4.4): a new mesh on the merged
 topology whose Basis is the source and whose shape keys go to the target
-(optional in-between keys on the way), with the source's materials, smooth
-shading, UV layers and colour attributes carried over, and the key values keyframed over a
-frame range. numpy and foreach_set only; no Python loops over elements."""
+through in-between keys (as rigid as possible, issue 17), with the source's
+materials, smooth shading, UV layers, colour attributes and vertex groups
+carried over.
+One property, the object's "paramorph_morph" (0 to 1), drives the chain of
+keys and is keyframed over a frame range, so scrubbing plays the in-betweens
+in order. numpy and foreach_set only; no Python loops over elements."""
 import bpy
 import numpy as np
 
 from . import bridge
+from .morph_job import key_times
+
+# The object's custom property that drives the keys: 0 source, 1 target.
+MORPH_PROPERTY = "paramorph_morph"
 
 
 def _build_mesh(name, positions, faces):
@@ -56,6 +63,38 @@ def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops):
     _carry_colors(source_mesh, mesh, result, tri_loops)
 
 
+def _carry_vertex_groups(source, obj, result, tri_loops):
+    """The source's vertex groups on the merged vertices: each weight
+    interpolated over the face of the source holding the merged vertex (0
+    where a vertex is in no group). Empty groups are made too, so a rig that
+    names them finds them."""
+    if not source.vertex_groups:
+        return
+    mesh = source.data
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    faces = loop_vertex[tri_loops]  # the triangles the morph was given
+    if result.inside_out_a:
+        faces = faces[:, [0, 2, 1]]  # as the morph turned them
+    merged = result.merged
+    corners = faces[np.asarray(merged.face_a)]  # (M, 3) source vertices around each merged vertex
+    bary = np.asarray(merged.bary_a)
+    weights = np.zeros((len(source.vertex_groups), len(mesh.vertices)))
+    for vertex in mesh.vertices:  # sparse memberships: no foreach_get for them
+        for membership in vertex.groups:
+            if membership.group < len(weights):
+                weights[membership.group, vertex.index] = membership.weight
+    for index, group in enumerate(source.vertex_groups):
+        carried = np.round((bary * weights[index][corners]).sum(axis=1), 6)
+        out = obj.vertex_groups.new(name=group.name)
+        members = np.flatnonzero(carried > 0)
+        values, which = np.unique(carried[members], return_inverse=True)
+        batches = np.split(members[np.argsort(which, kind="stable")], np.cumsum(np.bincount(which))[:-1])
+        for value, batch in zip(values, batches):  # one add() per distinct weight
+            out.add(batch.tolist(), float(value), "REPLACE")
+    obj.vertex_groups.active_index = source.vertex_groups.active_index
+
+
 def _carry_colors(source_mesh, mesh, result, tri_loops):
     """Colour attributes of the source (per corner or per vertex) as per-corner
     colours of the merged faces; the active one stays active."""
@@ -78,61 +117,117 @@ def _carry_colors(source_mesh, mesh, result, tri_loops):
             mesh.color_attributes.active_color = out
 
 
-def _fcurves(key):
-    """The shape-key datablock's F-curves, before and after slotted actions (4.4+)."""
-    action = key.animation_data.action
-    if hasattr(action, "fcurves") and not hasattr(key.animation_data, "action_slot"):
+def _fcurves(id_data):
+    """An ID's F-curves, before and after slotted actions (4.4+)."""
+    action = id_data.animation_data.action
+    if hasattr(action, "fcurves") and not hasattr(id_data.animation_data, "action_slot"):
         return action.fcurves
     from bpy_extras import anim_utils
-    return anim_utils.action_get_channelbag_for_slot(action, key.animation_data.action_slot).fcurves
+    return anim_utils.action_get_channelbag_for_slot(action, id_data.animation_data.action_slot).fcurves
 
 
-def key_times(in_betweens):
-    """Morph times of the keys after Basis: the in-betweens, then the target (1)."""
-    return [(i + 1) / (in_betweens + 1) for i in range(in_betweens + 1)]
-
-
-def _animate(obj, keys, frame_start, frame_end, easing):
-    """Each key at full weight at its time and at 0 at its neighbours' times
-    (tent curves), so the shape passes through every key in order; with
-    `easing` the segments start and end slowly (Bezier), else linearly."""
-    times = [0.0] + key_times(len(keys) - 1)
-    frames = [frame_start + t * (frame_end - frame_start) for t in times]
+def drive_keys(obj, keys):
+    """Each key after Basis at full weight at its time on the morph property
+    and at 0 at its neighbours' times (tent drivers, simple expressions that
+    need no Python), so the shape passes through every key in order."""
+    if MORPH_PROPERTY not in obj:
+        obj[MORPH_PROPERTY] = 0.0
+    ui = obj.id_properties_ui(MORPH_PROPERTY)
+    ui.update(min=0.0, max=1.0, soft_min=0.0, soft_max=1.0,
+              description="Paramorph: how far the morph has gone (0 source, 1 target)")
+    count = len(keys)
     for i, key in enumerate(keys, start=1):
-        key.value = 0.0
-        for j in (i - 1, i, i + 1):
-            if j < len(frames):
-                key.value = 1.0 if j == i else 0.0
-                key.keyframe_insert("value", frame=frames[j])
-        key.value = 0.0
-    interpolation = "BEZIER" if easing else "LINEAR"
-    for curve in _fcurves(obj.data.shape_keys):
+        key.driver_remove("value")
+        driver = key.driver_add("value").driver
+        driver.type = "SCRIPTED"
+        variable = driver.variables.new()
+        variable.name = "morph"
+        variable.type = "SINGLE_PROP"
+        variable.targets[0].id_type = "OBJECT"
+        variable.targets[0].id = obj
+        variable.targets[0].data_path = f'["{MORPH_PROPERTY}"]'
+        driver.expression = f"max(0.0, 1.0 - abs(morph * {count} - {i}))"
+
+
+def _animate(obj, frame_start, frame_end, easing):
+    """The morph property from 0 at frame_start to 1 at frame_end; with
+    `easing` it starts and ends slowly (Bezier), else linearly."""
+    path = f'["{MORPH_PROPERTY}"]'
+    if obj.animation_data is not None and obj.animation_data.action is not None:
+        curves = _fcurves(obj)
+        for curve in [c for c in curves if c.data_path == path]:  # an earlier morph's timing
+            curves.remove(curve)
+    for frame, value in ((frame_start, 0.0), (frame_end, 1.0)):
+        obj[MORPH_PROPERTY] = value
+        obj.keyframe_insert(path, frame=frame)
+    obj[MORPH_PROPERTY] = 0.0
+    for curve in _fcurves(obj):
+        if curve.data_path != path:
+            continue
         for point in curve.keyframe_points:
-            point.interpolation = interpolation
+            point.interpolation = "BEZIER" if easing else "LINEAR"
             if easing:
                 point.handle_left_type = point.handle_right_type = "AUTO_CLAMPED"
         curve.update()
 
 
-def build(context, name, source, result, target_positions, *, tri_poly, tri_loops,
-          target_name="Target", in_betweens=0, frame_start=1, frame_end=48, easing=True):
+def build(context, name, source, result, target_positions, shapes, *, tri_poly, tri_loops,
+          target_name="Target", frame_start=1, frame_end=48, easing=True):
     """A new object `name` on the merged topology of `result` (paramorph_native.Morph),
     placed like `source` and linked to its collections: Basis = result.source,
-    keys "<target_name> 25%"... (in-betweens) and `target_name` = target_positions,
-    keyframed from frame_start to frame_end. Returns the object."""
+    keys "<target_name> 25%"... (the in-between `shapes`, evenly spaced) and
+    `target_name` = target_positions, driven by the object's morph property,
+    which is keyframed from frame_start to frame_end. Returns the object."""
     source_positions = np.asarray(result.source)
     mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
     _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
     obj = bpy.data.objects.new(name, mesh)
+    _carry_vertex_groups(source, obj, result, tri_loops)
     for collection in source.users_collection or (context.collection,):
         collection.objects.link(obj)
     obj.matrix_world = source.matrix_world.copy()
-
-    obj.shape_key_add(name="Basis", from_mix=False)
-    keys = []
-    for t in key_times(in_betweens):
-        key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
-        shape = (1.0 - t) * source_positions + t * target_positions
-        keys.append(bridge.add_shape_key(obj, shape, key_name))
-    _animate(obj, keys, frame_start, frame_end, easing)
+    add_morph_keys(context, obj, shapes, target_positions, target_name=target_name, frame_start=frame_start,
+                   frame_end=frame_end, easing=easing)
     return obj
+
+
+def _morph_keys(obj):
+    """Names of the object's keys driven by its morph property (an earlier
+    morph, to this target or another: one property drives one morph)."""
+    keys = obj.data.shape_keys
+    if keys is None or keys.animation_data is None:
+        return set()
+    names = set()
+    for curve in keys.animation_data.drivers:
+        if any(t.id == obj and t.data_path == f'["{MORPH_PROPERTY}"]'
+               for v in curve.driver.variables for t in v.targets):
+            names.add(curve.data_path.split('"')[1])
+    return names
+
+
+def add_morph_keys(context, obj, shapes, target_positions, *, target_name="Target", frame_start=1, frame_end=48,
+                   easing=True):
+    """Keep-topology morph: keys "<target_name> 11%"... (the in-between
+    `shapes`) and `target_name` (target_positions), (#vertices, 3) in the
+    object's own coordinates, added to `obj` itself relative to its Basis
+    (made from the mesh when it has none) and driven by its morph property,
+    keyframed from frame_start to frame_end. An earlier morph's keys (driven by
+    the property, or named after this target) and timing are replaced; nothing
+    else on the object changes."""
+    with bridge.object_mode(context, obj):
+        stale = _morph_keys(obj) | {target_name} | \
+            {k.name for k in (obj.data.shape_keys.key_blocks if obj.data.shape_keys else ())
+             if k.name.startswith(target_name + " ") and k.name.endswith("%")}
+        stale = [obj.data.shape_keys.key_blocks[name] for name in stale
+                 if obj.data.shape_keys and name in obj.data.shape_keys.key_blocks]
+        for key in stale:
+            key.driver_remove("value")
+            obj.shape_key_remove(key)
+        if obj.data.shape_keys is None:
+            obj.shape_key_add(name="Basis", from_mix=False)
+        keys = []
+        for t, shape in zip(key_times(len(shapes)), list(shapes) + [target_positions]):
+            key_name = target_name if t == 1.0 else f"{target_name} {round(100 * t)}%"
+            keys.append(bridge.add_shape_key(obj, shape, key_name))
+        drive_keys(obj, keys)
+        _animate(obj, frame_start, frame_end, easing)

@@ -220,6 +220,10 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   m.target = positions_on(VB, p.b.F, m.merged.face_b, m.merged.bary_b);
   m.distortion = map_distortion(p.a.V, p.a.F, m.sphere_a, p.b.V, p.b.F, m.sphere_b).mean;
   mark("positions");
+  if (o.weld_tolerance > 0) {
+    m.weld = weld_merged(m.merged, m.source, m.target, VA, p.a.F, VB, p.b.F, o.weld_tolerance);
+    mark("weld");
+  }
   m.timings.emplace_back("total", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   if (progress) progress->report(1.0, "morph");
   return m;

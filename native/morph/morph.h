@@ -20,7 +20,9 @@
 //      way instead; where that stalls too, the next best candidate is tried;
 //   4. the two maps are overlaid into one merged topology (overlay, 4.4);
 //   5. every merged vertex's position on A and on B from its barycentric
-//      coordinates: the source and target of the morph (4.4).
+//      coordinates: the source and target of the morph (4.4); then the merged
+//      mesh is welded (weld_merged: short edges collapsed where both ends
+//      stay within 1e-6 of the diagonal, slivers flipped inside their cells).
 #pragma once
 
 #include <array>
@@ -33,6 +35,7 @@
 #include "mesh/types.h"
 #include "morph/correspondence.h"
 #include "morph/spherical_overlay.h"
+#include "morph/weld_merged.h"
 
 namespace paramorph::morph {
 
@@ -48,6 +51,10 @@ struct MorphOptions {
   std::vector<std::array<Index, 2>> pins;
   CorrespondenceOptions correspondence;
   OverlayOptions overlay;
+  /// Weld the merged mesh (weld_merged): short edges collapsed where every
+  /// face stays within this share of the diagonal of one face of each input,
+  /// slivers flipped inside their cells; 0: off.
+  double weld_tolerance = 1e-6;
 };
 
 struct Morph {
@@ -66,6 +73,7 @@ struct Morph {
   /// read on A through the two maps; 0 for an isometry).
   double distortion = 0;
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
+  WeldStats weld;  ///< what welding the merged mesh did (faces before and after, slivers)
 };
 
 /// VA, FA / VB, FB: closed genus-0 meshes (the MeshError subclasses

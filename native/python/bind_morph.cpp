@@ -353,6 +353,19 @@ void def_correspondence(py::module_& m) {
 
 void def_morph(py::module_& m) {
   using morph::Morph;
+  py::class_<morph::WeldStats>(m, "WeldStats")
+      .def_readonly("faces_before", &morph::WeldStats::faces_before)
+      .def_readonly("faces_after", &morph::WeldStats::faces_after)
+      .def_readonly("collapsed_edges", &morph::WeldStats::collapsed_edges, "short edges collapsed (vertices welded)")
+      .def_readonly("flipped_edges", &morph::WeldStats::flipped_edges, "edges flipped inside a cell")
+      .def_readonly("slivers_before", &morph::WeldStats::slivers_before,
+                    "faces of area under 1e-12 of the squared diagonal at either end, before")
+      .def_readonly("slivers_after", &morph::WeldStats::slivers_after)
+      .def("__repr__", [](const morph::WeldStats& w) {
+        return "<WeldStats faces " + std::to_string(w.faces_before) + " -> " + std::to_string(w.faces_after) +
+               ", collapsed " + std::to_string(w.collapsed_edges) + ", flipped " + std::to_string(w.flipped_edges) +
+               ", slivers " + std::to_string(w.slivers_before) + " -> " + std::to_string(w.slivers_after) + ">";
+      });
   py::class_<Morph>(m, "Morph", "Result of morph(): the merged topology and both shapes on it.")
       .def_property_readonly("faces", [](const Morph& r) { return to_numpy(r.merged.F); },
                              "(K, 3) int32 merged triangles")
@@ -385,6 +398,7 @@ void def_morph(py::module_& m) {
       .def_property_readonly("sphere_a", [](const Morph& r) { return to_numpy(r.sphere_a); })
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
       .def_readonly("timings", &Morph::timings)
+      .def_readonly("weld", &Morph::weld, "WeldStats: faces before and after, edges collapsed and flipped, slivers")
       .def(
           "carry",
           [](const Morph& r, int side, const py::object& values) {
@@ -405,9 +419,12 @@ void def_morph(py::module_& m) {
       "morph",
       [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB, bool automatic,
          const py::object& pairs, const py::object& pins, Index proxy_faces, bool extremities, bool registration,
-         bool features, double merge_tolerance, py::object progress) {
-        const morph::MorphOptions o =
+         bool features, double merge_tolerance, double weld_tolerance, py::object progress) {
+        morph::MorphOptions o =
             morph_options(automatic, pairs, pins, proxy_faces, extremities, registration, features, merge_tolerance);
+        PM_REQUIRE(weld_tolerance >= 0 && weld_tolerance < 1e-2, InvalidInputError,
+                   "weld_tolerance is a share of the diagonal in [0, 0.01) (0: no welding), got ", weld_tolerance);
+        o.weld_tolerance = weld_tolerance;
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         PythonProgress bridge(std::move(progress));
@@ -416,7 +433,7 @@ void def_morph(py::module_& m) {
       py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("automatic") = true,
       py::arg("pairs") = py::none(), py::arg("pins") = py::none(), py::arg("proxy_faces") = 3000,
       py::arg("extremities") = true, py::arg("registration") = true, py::arg("features") = true,
-      py::arg("merge_tolerance") = 1e-6, py::arg("progress") = py::none(),
+      py::arg("merge_tolerance") = 1e-6, py::arg("weld_tolerance") = 1e-6, py::arg("progress") = py::none(),
       R"doc(Morph of closed genus-0 mesh A into B (thesis ch. 4; issue 16).
 
 Both models are turned outward when their files are inside-out, centred and
@@ -429,11 +446,15 @@ wins, so automatic pairs are used only when they beat no pairs
 (automatic=False: the pins and any given pairs alone). pins: (k, 2) (vertex of A, vertex of B),
 hard: the pinned vertex of A lands exactly on its partner at t = 1. pairs:
 (k, 2) to use instead of the automatic candidates (e.g. an edited preview).
-The maps are overlaid (4.4) into one merged topology.
+The maps are overlaid (4.4) into one merged topology, which is then welded
+(edges under 1e-4 of the diagonal at either end collapsed where every face
+stays inside one face of each input within weld_tolerance of the diagonal,
+faces of nearly zero area flipped inside their cells; both ends move by at
+most weld_tolerance; 0: off; morph.weld says what it did).
 
 Returns Morph: faces, sphere, source (A as placed), target (B as placed),
 vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, candidates,
-chosen, distortion, inside_out_a/b, sphere_a/b, timings, carry(side, values).
+chosen, distortion, inside_out_a/b, sphere_a/b, timings, weld, carry(side, values).
 Errors name the mesh ("mesh A: ..."), keep their MeshError type; pins out of
 range: InvalidInputError; a vertex pinned twice or mirrored pins:
 ConstraintError naming them; Cancelled.)doc");

@@ -17,4 +17,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_morph(m);
   paramorph::python::bind_overlay(m);
   paramorph::python::bind_paste(m);
+  paramorph::python::bind_in_betweens(m);
 }

@@ -276,7 +276,7 @@ def test_morph_two_obj_files_into_an_animated_blend(cli, tmp_path):
     octopus_obj = tmp_path / "octopus.obj"
     export(octopus_obj)
     out = tmp_path / "out" / "morph.blend"
-    proc = run_cli(cli, tmp_path, "morph", blob_obj, octopus_obj, "--frames", "12", "--start", "5",
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, octopus_obj, "--topology", "merged", "--frames", "12", "--start", "5",
                    "--in-betweens", "1", "--pin", str(blob_tip), str(octopus_tip), "-o", out)
     assert proc.returncode == 0, output(proc)
     assert "paramorph morph: Blob to Octopus:" in proc.stdout and f"wrote {out}" in proc.stdout

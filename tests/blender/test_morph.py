@@ -14,6 +14,8 @@ import pytest
 
 import make_samples
 from paramorph import jobs, ops_pins
+from paramorph.morph_object import MORPH_PROPERTY
+from paramorph.native import native
 
 pytestmark = pytest.mark.usefixtures("addon_scene")
 
@@ -46,6 +48,8 @@ def morph_pair(source_subdivisions=3):
     material = bpy.data.materials.new("BlobSkin")
     source.data.materials.append(material)
     bpy.ops.mesh.uv_texture_add()  # a UV layer to carry ("UVMap")
+    top = source.vertex_groups.new(name="Top")  # a vertex group to carry: the upper cap
+    top.add([v.index for v in source.data.vertices if v.co.z > 0.3], 1.0, "REPLACE")
     target = make_samples.build_octopus(subdivisions=3, limbs=4)
     target.location = (4.0, 0.0, 0.0)
     select_pair(source, target)
@@ -100,11 +104,11 @@ def key_value_at(obj, key_name, frame):
 def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     source, target = morph_pair()
     objects_before = set(bpy.data.objects)
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, frame_start=1, frame_end=21,
-                                  in_betweens=1, easing="LINEAR")
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", frame_start=1, frame_end=21,
+                                  in_betweens=1, interpolation="LINEAR", easing="LINEAR")
     assert status == {"FINISHED"}
     # The report names the chosen candidate and its score, and what holds exactly.
-    assert re.search(r"Morph To: Blob to Octopus, \d+ faces; chosen \w+ — .*score [0-9.e+-]+; "
+    assert re.search(r"Morph To: Blob to Octopus, \d+ faces \([0-9.]+x the inputs' \d+\)[^;]*; chosen \w+ — .*score [0-9.e+-]+; "
                      r"0 pins and \d+ pairs? held exactly", report), report
     (morph,) = set(bpy.data.objects) - objects_before
     assert bpy.context.view_layer.objects.active == morph and morph.name == "Blob to Octopus"
@@ -128,10 +132,27 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     mesh.loops.foreach_get("edge_index", loop_edges)
     np.add.at(edge_faces, loop_edges, 1)
     assert np.all(edge_faces == 2)
-    # The source's look comes along.
+    # The source's look comes along, and its vertex groups: the weight of a
+    # merged vertex interpolates the source's over the face holding it.
     assert [m.name for m in mesh.materials] == ["BlobSkin"]
     assert "UVMap" in mesh.uv_layers
-    # Tent keyframes: the in-between at full weight half way, the target at the end.
+    assert [g.name for g in morph.vertex_groups] == ["Top"]
+    source_top = (coordinates(source.data.vertices)[:, 2] > 0.3).astype(float)
+    merged_weight = np.zeros(len(mesh.vertices))
+    for v in mesh.vertices:
+        for g in v.groups:
+            merged_weight[v.index] = g.weight
+    # The source's vertices are merged vertices, with their own weights.
+    assert 0 < source_top.sum() < len(source_top)
+    at_source = [int(np.argmin(np.linalg.norm(basis - p, axis=1))) for p in coordinates(source.data.vertices)]
+    np.testing.assert_allclose(merged_weight[at_source], source_top, atol=1e-6)
+    assert np.all((merged_weight >= 0) & (merged_weight <= 1))
+    assert np.any((merged_weight > 0.01) & (merged_weight < 0.99))  # interpolated along the group's edge
+    # One property drives the keys (tent drivers, simple expressions: no Python
+    # needed); it is keyframed 0 -> 1: the in-between at full weight half way,
+    # the target at the end.
+    drivers = morph.data.shape_keys.animation_data.drivers
+    assert len(drivers) == 2 and all(d.driver.is_simple_expression for d in drivers)
     assert key_value_at(morph, "Octopus 50%", 1) == pytest.approx(0.0)
     assert key_value_at(morph, "Octopus 50%", 11) == pytest.approx(1.0)
     assert key_value_at(morph, "Octopus", 11) == pytest.approx(0.0)
@@ -141,9 +162,43 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
     assert source.data.shape_keys is None and target.data.shape_keys is None
 
 
+def evaluated_positions(obj):
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    return coordinates(evaluated.data.vertices)
+
+
+def test_in_betweens_are_as_rigid_as_possible_and_scrubbing_plays_them():
+    """The default in-betweens are the native as-rigid-as-possible ones (not
+    the straight mix), eight of them; scrubbing the timeline shows each key's
+    shape at its frame and a mix of neighbours between."""
+    source, target = morph_pair()
+    objects_before = set(bpy.data.objects)
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", frame_start=1, frame_end=91, easing="LINEAR") == {"FINISHED"}
+    (morph,) = set(bpy.data.objects) - objects_before
+    blocks = morph.data.shape_keys.key_blocks
+    assert [k.name for k in blocks] == ["Basis"] + [f"Octopus {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Octopus"]
+    basis, end = coordinates(blocks["Basis"].data), coordinates(blocks["Octopus"].data)
+    faces = np.array([tuple(p.vertices) for p in morph.data.polygons], dtype=np.int32)
+    expected = native.ShapeInterpolation(basis, end, faces).at(4 / 9)
+    middle = coordinates(blocks["Octopus 44%"].data)
+    scale = np.ptp(end, axis=0).max()
+    assert np.abs(middle - expected).max() < 1e-4 * scale
+    assert np.abs(middle - (5 / 9 * basis + 4 / 9 * end)).max() > 1e-3 * scale  # not the straight mix
+    # Frame 41 is t = 4/9: the evaluated mesh is that key's shape; half way
+    # between two keys' frames it is their mean.
+    bpy.context.scene.frame_set(41)
+    assert morph[MORPH_PROPERTY] == pytest.approx(4 / 9)
+    np.testing.assert_allclose(evaluated_positions(morph), middle, atol=1e-5 * scale)
+    bpy.context.scene.frame_set(46)
+    after = coordinates(blocks["Octopus 56%"].data)
+    np.testing.assert_allclose(evaluated_positions(morph), 0.5 * (middle + after), atol=1e-4 * scale)
+    bpy.context.scene.frame_set(91)
+    np.testing.assert_allclose(evaluated_positions(morph), end, atol=1e-5 * scale)
+
+
 def test_target_placement_ends_where_the_target_is():
     source, target = morph_pair()
-    assert bpy.ops.paramorph.morph_to(placement="TARGET", automatic=False) == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", placement="TARGET", automatic=False) == {"FINISHED"}
     morph = bpy.context.view_layer.objects.active
     end = coordinates(morph.data.shape_keys.key_blocks["Octopus"].data)
     world = end @ np.array(morph.matrix_world)[:3, :3].T + np.array(morph.matrix_world)[:3, 3]
@@ -158,7 +213,7 @@ def test_a_pin_lands_exactly_on_its_partner(capfd):
     matches = bpy.context.scene.paramorph_matches
     assert [(p.vertex_a, p.vertex_b, p.pin) for p in matches.pairs] == [(a, b, True)]
     assert matches.source == source and matches.target == target
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, automatic=False)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False)
     assert status == {"FINISHED"} and "1 pin and 0 pairs held exactly" in report, report
     morph = bpy.context.view_layer.objects.active
     assert pin_gap(morph, source, target, a, b, "Octopus") <= 1e-6
@@ -217,7 +272,7 @@ def test_preview_matches_shows_the_candidates_keeps_the_pins_and_morph_uses_its_
     # Clear Pins keeps the automatic pairs; the morph uses the previewed pairs as edited.
     assert bpy.ops.paramorph.remove_pair(index=len(matches.pairs) - 1) == {"FINISHED"}
     kept = [(p.vertex_a, p.vertex_b) for p in matches.pairs if not p.pin]
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED")
     assert status == {"FINISHED"}
     assert re.search(rf"previewed pairs given — {len(kept)} pairs?.*1 pin and {len(kept)} pairs? held exactly",
                      report), report
@@ -243,7 +298,7 @@ def test_pins_are_saved_with_the_file_and_used_after_reloading(tmp_path):
     assert matches.source == source and matches.target == target
     assert [(p.vertex_a, p.vertex_b, p.pin) for p in matches.pairs] == [(a, b, True)]
     select_pair(source, target)
-    assert bpy.ops.paramorph.morph_to(automatic=False) == {"FINISHED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", automatic=False) == {"FINISHED"}
     morph = bpy.context.view_layer.objects.active
     assert pin_gap(morph, source, target, a, b, "Octopus") <= 1e-6
 
@@ -256,13 +311,13 @@ def test_a_vertex_pinned_twice_is_reported_and_nothing_is_added():
     matches.pairs[1].vertex_a = 1  # edited in the panel's list
     objects_before = set(bpy.data.objects)
     with pytest.raises(RuntimeError, match=r"Blob → Octopus: pins 0 and 1 both pin vertex 1 of A"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     assert set(bpy.data.objects) == objects_before
     # An index edited past the mesh's end is reported by object and pin, not as a traceback.
     matches.pairs[1].vertex_a = 3
     matches.pairs[1].vertex_b = 99999
     with pytest.raises(RuntimeError, match=r"pin 1 \(3, 99999\): Octopus has no vertex 99999"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     assert set(bpy.data.objects) == objects_before
 
 
@@ -274,7 +329,7 @@ def test_pins_picked_on_other_geometry_are_an_error_not_ignored():
     bpy.context.scene.paramorph_matches.source = source
     select_pair(source, target)
     with pytest.raises(RuntimeError, match=r"pins of Blob → Octopus were picked on 162 and \d+ vertices"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
 
 
 def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
@@ -285,7 +340,7 @@ def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
     bpy.ops.mesh.flip_normals()
     bpy.ops.object.mode_set(mode="OBJECT")
     select_pair(source, target)
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, automatic=False)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False)
     assert status == {"FINISHED"}, report
     assert "Octopus's faces pointed inwards: turned for the morph" in report, report
     assert "Blob's faces" not in report
@@ -339,7 +394,7 @@ def test_a_mesh_with_a_hole_is_reported_by_name_and_nothing_is_added():
     select_pair(source, grid)
     objects_before = set(bpy.data.objects)
     with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
-        bpy.ops.paramorph.morph_to()
+        bpy.ops.paramorph.morph_to(topology="MERGED")
     with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
         bpy.ops.paramorph.preview_matches()
     assert set(bpy.data.objects) == objects_before
@@ -353,7 +408,7 @@ def test_morph_needs_two_meshes_and_a_cancelled_run_adds_nothing(monkeypatch):
     source.select_set(True)
     objects_before = set(bpy.data.objects)
     monkeypatch.setattr(jobs.NativeJob, "_progress", lambda self, fraction, stage: False)
-    assert bpy.ops.paramorph.morph_to() == {"CANCELLED"}
+    assert bpy.ops.paramorph.morph_to(topology="MERGED") == {"CANCELLED"}
     assert bpy.ops.paramorph.preview_matches() == {"CANCELLED"}
     assert set(bpy.data.objects) == objects_before
     assert len(bpy.context.scene.paramorph_matches.candidates) == 0

@@ -12,7 +12,8 @@ segmentation (undo needs a window) and records what is left; then runs
 Sphere Map as users do (INVOKE: a modal operator, the native call in a
 thread), cancels it as Esc or the panel's Cancel button would, checks the
 mesh is untouched, runs it again to the end; then Preview Matches (its
-candidates are stored) and Morph To as a modal operator, undone; then quits.
+candidates are stored) and Morph To as a modal operator, undone; then Morph To
+keeping the source's topology (keys on the source itself), undone; then quits.
 (Pick Pins' overlay has its own window test: pick_pins_gui.py.)"""
 import colorsys
 import os
@@ -159,7 +160,7 @@ def morph_invoke():
     bpy.context.view_layer.objects.active = target
     window, area, region = view3d()
     with bpy.context.temp_override(window=window, area=area, region=region):
-        stats["morph"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT"))
+        stats["morph"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT", topology="MERGED"))
     stats["morph"]["running"] = len(jobs.running())
 
 
@@ -169,8 +170,11 @@ def morph_written():
 
 def morph_check_and_undo():
     morph = bpy.data.objects.get("Octopus to OctopusB")
-    stats["morph"]["made"] = morph is not None and morph.data.shape_keys is not None and \
-        [k.name for k in morph.data.shape_keys.key_blocks] == ["Basis", "OctopusB"]
+    keys = [] if morph is None or morph.data.shape_keys is None else \
+        [k.name for k in morph.data.shape_keys.key_blocks]
+    # Basis, eight in-betweens (as rigid as possible) and the target, driven by one property.
+    stats["morph"]["made"] = len(keys) == 10 and keys[0] == "Basis" and keys[-1] == "OctopusB" and \
+        "paramorph_morph" in morph and len(morph.data.shape_keys.animation_data.drivers) == 9
     stats["morph"]["objects_done"] = sorted(o.name for o in bpy.data.objects)
     window, area, region = view3d()
     with bpy.context.temp_override(window=window, area=area, region=region):
@@ -178,10 +182,41 @@ def morph_check_and_undo():
     stats["morph"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
 
 
+def keep_invoke():
+    """Morph To again, keeping the source's topology: keys on Octopus itself."""
+    source, target = bpy.data.objects["Octopus"], bpy.data.objects["OctopusB"]
+    stats["keep"] = {"keys_before": source.data.shape_keys is not None}
+    for obj in (source, target):
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = target
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        stats["keep"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT", topology="KEEP"))
+
+
+def keep_written():
+    return bpy.data.objects["Octopus"].data.shape_keys is not None
+
+
+def keep_check_and_undo():
+    source = bpy.data.objects["Octopus"]
+    keys = [] if source.data.shape_keys is None else [k.name for k in source.data.shape_keys.key_blocks]
+    stats["keep"]["keys"] = keys
+    stats["keep"]["property"] = "paramorph_morph" in source
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.ed.undo()
+    source = bpy.data.objects["Octopus"]
+    stats["keep"]["keys_undone"] = source.data.shape_keys is not None
+    stats["keep"]["property_undone"] = "paramorph_morph" in source
+    stats["keep"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
+
+
 steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs(), None, modal_check("cancelled"),
          modal_invoke("second"), wait_for_jobs(sphere_written), None, modal_check("finished"),
-         morph_setup, None, morph_invoke, wait_for_jobs(morph_written, "morph"), None, morph_check_and_undo]
+         morph_setup, None, morph_invoke, wait_for_jobs(morph_written, "morph"), None, morph_check_and_undo,
+         keep_invoke, wait_for_jobs(keep_written, "keep"), None, keep_check_and_undo]
 
 
 run_steps(steps, "overlay.json")

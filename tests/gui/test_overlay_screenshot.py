@@ -33,3 +33,11 @@ def test_region_overlay_colours_the_viewport(tmp_path):
     assert morph["made"], morph
     assert morph["objects_done"] == sorted(morph["objects_before"] + ["Octopus to OctopusB"]), morph
     assert morph["objects_undone"] == morph["objects_before"], morph
+    # Keeping the source's topology: keys on the source itself, and undo takes
+    # them (and the driving property) away, no object added or lost.
+    keep = stats["keep"]
+    assert keep["invoke"] == ["RUNNING_MODAL"] and not keep["keys_before"], keep
+    assert keep["keys"][0] == "Basis" and keep["keys"][-1] == "OctopusB" and len(keep["keys"]) == 10, keep
+    assert keep["property"], keep
+    assert not keep["keys_undone"] and not keep["property_undone"], keep
+    assert keep["objects_undone"] == morph["objects_before"], keep

@@ -1,0 +1,106 @@
+// In-betweens that keep shapes whole (issue 17; DESIGN.md §4.4 step 4):
+// as-rigid-as-possible shape interpolation (Alexa et al. 2000) in its
+// gradient-domain form (Xu et al. 2005), besides the thesis' linear one (4.4).
+//
+// Both ends are meshes on one topology (the merged mesh's source and target,
+// or a source and the target sampled at its vertices). Per face, J is the
+// deformation gradient taking the face at t = 0 to the face at t = 1 (its
+// two edges and its normal scaled by the square root of twice its area, so a
+// uniform scale is a multiple of a rotation), and G the whole shape's best
+// rotation. At time t every face asks for its edges at t = 0 mapped by
+//     J(t) = G(t) · R̄(t) · ((1 − t) I + t R̄ᵀ G⁻¹ J),
+// G(t), R̄(t) turned by t of their angle (a face's angle is taken on the side
+// of its neighbours' where it is near π), and the positions are the
+// least-squares fit of all faces' edges: one solve with a factor computed
+// once for all t.
+//
+// R̄ is the rotation of the face's neighbourhood, not the face's own (the best
+// rotation of the summed edge covariances over a few rings of faces). A
+// merged mesh's faces are pieces of a face of A and one of B, and their own
+// gradients turn and shear from piece to piece with both tessellations'
+// facets (median 32° on a horse onto a re-tessellated copy of itself):
+// interpolating those per face shrank the shape in between (the horse 17 %
+// lower at t = 1/2). With R̄ the faces of a neighbourhood ask for consistent
+// edges, so the in-between is the straight one seen from frames that turn
+// with the parts: limbs turn instead of shortening.
+//
+// Thin pieces can still turn over in between (their apex crossing their base
+// under that straight mix). Faces turned against both ends at t are repaired
+// locally: their vertices and a ring around them are fitted again, the rest
+// held, with each face asking for its own rotation R and stretch S (polar
+// decomposition of G⁻¹J), S(t) = exp(t log S): a face alone never degenerates
+// under that wish.
+//
+// The fit's matrix is the edge graph's Laplacian (each face's edges weighted
+// by the inverse of its size), not the cotangent one, so zero-area faces of a
+// merged mesh cannot make it indefinite; a face of (nearly) zero area at
+// either end has no reliable J and asks for its edges turned by G(t) and
+// interpolated straight, with a small weight. The fit keeps each connected
+// part's vertex mean on the straight line between the ends (the local repairs
+// then move a few vertices). At t = 0 and t = 1 the fit is exact: every face
+// asks for its own edges.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "mesh/types.h"
+
+namespace paramorph::morph {
+
+class ShapeInterpolation {
+ public:
+  /// source, target: #V by 3 positions of one mesh at t = 0 and t = 1; F: #F
+  /// by 3 faces of it (any vertex in no face follows the straight line).
+  /// InvalidInputError for mismatched sizes, indices out of range or
+  /// non-finite positions.
+  ShapeInterpolation(const MatrixX3d& source, const MatrixX3d& target, const MatrixX3i& F);
+  ~ShapeInterpolation();
+  ShapeInterpolation(ShapeInterpolation&&) noexcept;
+  ShapeInterpolation& operator=(ShapeInterpolation&&) noexcept;
+
+  /// The positions at time t (0: source, 1: target; any t is accepted, the
+  /// rotations extrapolate).
+  MatrixX3d at(double t) const;
+
+  /// Faces whose gradient was not used (zero area at either end).
+  Index degenerate_faces() const { return degenerate_; }
+  /// The global rotation's angle between the ends, radians.
+  double global_angle() const { return global_angle_; }
+
+ private:
+  /// Per face, what it asks for at t: R̄(t) and the straight mix (neighbourhood
+  /// = true), or its own R(t) S(t).
+  Eigen::Matrix3d wish(Index f, double t, bool neighbourhood) const;
+  /// The whole fit of every face's wish.
+  MatrixX3d fit(double t) const;
+  /// Refits the vertices of faces turned over at t (and `rings` rings around
+  /// them) to the faces' own wishes, the rest held; kept only when fewer
+  /// faces are turned over after. Returns the faces still turned over.
+  Index repair(double t, int rings, MatrixX3d& X) const;
+  std::vector<Index> turned_over(const MatrixX3d& X) const;
+
+  MatrixX3d source_, target_;
+  MatrixX3i F_;
+  Eigen::Vector3d global_log_;                 ///< G's axis times angle
+  std::vector<char> face_degenerate_;
+  std::vector<double> face_weight_;            ///< per face: its edges' weight in the fit
+  std::vector<Eigen::Vector3d> area_log_;      ///< per face: R̄'s axis times angle
+  std::vector<Eigen::Matrix3d> area_rest_;     ///< per face: R̄ᵀ G⁻¹ J
+  std::vector<Eigen::Vector3d> own_log_;       ///< per face: R's axis times angle
+  std::vector<Eigen::Matrix3d> own_axes_;      ///< per face: S's eigenvectors
+  std::vector<Eigen::Vector3d> own_log_stretch_;  ///< per face: logarithms of S's eigenvalues
+  std::vector<char> own_straight_;             ///< per face: S not positive definite, mixed straight
+  std::vector<Eigen::Vector3d> normal0_, normal1_;  ///< per face: its normal at the ends
+  std::vector<Index> vertex_face_start_, vertex_faces_;  ///< faces around each vertex (CSR)
+  VectorXi component_;        ///< per vertex: its connected part
+  VectorXi anchor_of_;        ///< per part: the vertex held at 0 in the solve
+  VectorXi unknown_;          ///< per vertex: its row in the solve, -1 for anchors and loose vertices
+  struct Factor;              ///< the fit's sparse Cholesky factor (Eigen + METIS, kept out of this header)
+  std::unique_ptr<Factor> factor_;
+  Index degenerate_ = 0;
+  double global_angle_ = 0;
+};
+
+}  // namespace paramorph::morph
