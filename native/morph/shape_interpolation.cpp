@@ -9,6 +9,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <deque>
 #include <numeric>
 #include <unordered_map>
@@ -40,6 +41,8 @@ constexpr double kSizeFloor = 1e-6;
 constexpr int kNeighbourhoodSweeps = 100;
 /// Repairs of turned-over faces per frame, each over one more ring.
 constexpr int kRepairs = 6;
+/// Passes mirroring thin pieces' apexes back over their base (mirror_apexes).
+constexpr int kMirrorPasses = 3;
 
 Eigen::Matrix3d rotation_of(const Eigen::Vector3d& log) {
   const double angle = log.norm();
@@ -336,7 +339,65 @@ MatrixX3d ShapeInterpolation::at(double t) const {
   MatrixX3d X = fit(t);
   for (int k = 0; k < kRepairs; ++k)
     if (repair(t, k + 1, X) == 0) break;
+  for (int pass = 0; pass < kMirrorPasses; ++pass)
+    if (mirror_apexes(t, X) == 0) break;
   return X;
+}
+
+Index ShapeInterpolation::mirror_apexes(double t, MatrixX3d& X) const {
+  const std::vector<Index> turned = turned_over(X);
+  auto is_turned = [&](Index f) {
+    if (face_degenerate_[f]) return false;
+    const Eigen::Vector3d n = face_normal(X, F_, f);
+    return n.dot(normal0_[f]) < 0 && n.dot(normal1_[f]) < 0;
+  };
+  auto turned_around = [&](Index v) {
+    Index count = 0;
+    for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) count += is_turned(vertex_faces_[p]);
+    return count;
+  };
+  Index fixed = 0;
+  for (const Index f : turned) {
+    if (!is_turned(f)) continue;  // mended by an earlier move
+    // The side the face should face: its neighbourhood's wish turns its normal at t = 0.
+    Eigen::Vector3d reference = wish(f, t, true) * normal0_[f];
+    if (!(reference.norm() > 0)) continue;
+    reference.normalize();
+    // A face turning past a right angle between the ends may want a normal
+    // against both: it takes the nearer end's instead.
+    if (reference.dot(normal0_[f]) < 0 && reference.dot(normal1_[f]) < 0) {
+      const Eigen::Vector3d n0 = normal0_[f].normalized(), n1 = normal1_[f].normalized();
+      reference = reference.dot(n0) > reference.dot(n1) ? n0 : n1;
+    }
+    // The corner nearest its opposite side (the apex of a thin piece), mirrored
+    // across that side within the plane across `reference`: the smallest move.
+    int best = -1;
+    double best_height = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d best_direction;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d a = X.row(F_(f, (c + 1) % 3)).transpose(), b = X.row(F_(f, (c + 2) % 3)).transpose();
+      const Eigen::Vector3d apex = X.row(F_(f, c)).transpose();
+      const Eigen::Vector3d along = (b - a).normalized(), across = reference.cross(along);
+      if (!(across.norm() > 1e-12)) continue;
+      const double height = (apex - a).dot(across.normalized());
+      if (std::abs(height) < best_height) best_height = std::abs(height), best = c, best_direction = across.normalized();
+    }
+    if (best < 0) continue;
+    // Thin pieces only: the move is at most a quarter of the face's longest side.
+    double longest = 0;
+    for (int c = 0; c < 3; ++c) longest = std::max(longest, (X.row(F_(f, c)) - X.row(F_(f, (c + 1) % 3))).norm());
+    if (2.0 * best_height > 0.25 * longest) continue;
+    const Index v = F_(f, best);
+    const Eigen::RowVector3d old = X.row(v);
+    const Index before = turned_around(v);
+    X.row(v) = old + 2.0 * best_height * best_direction.transpose();
+    if (turned_around(v) < before) {
+      ++fixed;
+    } else {
+      X.row(v) = old;
+    }
+  }
+  return fixed;
 }
 
 MatrixX3d ShapeInterpolation::fit(double t) const {

@@ -29,7 +29,11 @@
 // locally: their vertices and a ring around them are fitted again, the rest
 // held, with each face asking for its own rotation R and stretch S (polar
 // decomposition of G⁻¹J), S(t) = exp(t log S): a face alone never degenerates
-// under that wish.
+// under that wish. A thin piece still turned over then has its apex mirrored
+// back over its base, within the plane across the normal it wants (a move
+// of twice its height, invisible), where that turns fewer faces over
+// (measured on a horse onto a re-tessellated copy: 0.16-0.22 % of faces
+// turned over after the refits, 0.013-0.025 % after the mirroring).
 //
 // The fit's matrix is the edge graph's Laplacian (each face's edges weighted
 // by the inverse of its size), not the cotangent one, so zero-area faces of a
@@ -80,6 +84,11 @@ class ShapeInterpolation {
   /// faces are turned over after. Returns the faces still turned over.
   Index repair(double t, int rings, MatrixX3d& X) const;
   std::vector<Index> turned_over(const MatrixX3d& X) const;
+  /// A face still turned over at t whose apex lies a hair over its base (a
+  /// thin piece) has the apex mirrored back over the base, within the plane
+  /// across the normal the face wants, where that turns fewer faces around
+  /// the apex over. Returns the faces mended.
+  Index mirror_apexes(double t, MatrixX3d& X) const;
 
   MatrixX3d source_, target_;
   MatrixX3i F_;
