@@ -69,6 +69,11 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     target = make_samples.build_blob(name="Blob", subdivisions=3)
     target.location = (4.0, 0.0, 0.0)
     armature = rigged(source)
+    # A shape key the artist made before (a "Smile") stays as it is.
+    source.shape_key_add(name="Basis", from_mix=False)
+    smile = source.shape_key_add(name="Smile", from_mix=False)
+    smile_co = coordinates(smile.data) + [0.0, 0.0, 0.1]
+    smile.data.foreach_set("co", smile_co.astype(np.float32).ravel())
     before = state_of(source)
     VA, FA = bridge.mesh_arrays(source.data)[:2]
     VB, FB = bridge.mesh_arrays(target.data)[:2]
@@ -81,7 +86,9 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     assert set(bpy.data.objects) == objects_before  # no new object
     assert state_of(source) == before  # topology, UVs, groups, weights, modifiers, parent untouched
     blocks = source.data.shape_keys.key_blocks
-    assert [k.name for k in blocks] == ["Basis"] + [f"Blob {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Blob"]
+    assert [k.name for k in blocks] == ["Basis", "Smile"] + [f"Blob {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Blob"]
+    np.testing.assert_allclose(coordinates(blocks["Smile"].data), smile_co, atol=1e-6)
+    assert all(k.relative_key == blocks["Basis"] for k in blocks[1:])
     # The last key is the target sampled at the source's vertices through the correspondence.
     morph = native.morph(VA, FA, VB, FB)
     expected = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
@@ -113,7 +120,7 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     select_pair(source, target)
     assert bpy.ops.paramorph.morph_to(in_betweens=3, interpolation="LINEAR", frame_start=1,
                                       frame_end=21) == {"FINISHED"}
-    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Blob 25%", "Blob 50%", "Blob 75%", "Blob"]
+    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Smile", "Blob 25%", "Blob 50%", "Blob 75%", "Blob"]
     assert len(source.data.shape_keys.animation_data.drivers) == 4
     bpy.context.scene.frame_set(21)
     assert source[MORPH_PROPERTY] == pytest.approx(1.0)
@@ -121,7 +128,7 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     other.location = (-4.0, 0.0, 0.0)
     select_pair(source, other)
     assert bpy.ops.paramorph.morph_to(in_betweens=1) == {"FINISHED"}
-    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Other 50%", "Other"]
+    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Smile", "Other 50%", "Other"]
     assert len(source.data.shape_keys.animation_data.drivers) == 2
 
 
