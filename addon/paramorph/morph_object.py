@@ -5,7 +5,8 @@ materials, smooth shading, UV layers, colour attributes and vertex groups
 carried over.
 One property, the object's "paramorph_morph" (0 to 1), drives the chain of
 keys and is keyframed over a frame range, so scrubbing plays the in-betweens
-in order. numpy and foreach_set only; no Python loops over elements."""
+in order. numpy and foreach_set throughout, except for reading vertex group
+memberships, which Blender offers per vertex only."""
 import bpy
 import numpy as np
 

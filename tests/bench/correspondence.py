@@ -33,31 +33,7 @@ from common import emit, import_native, median_run
 pm = import_native()
 import quadrupeds as Q  # noqa: E402  (tests/native, on sys.path after import_native)
 
-LANDMARKS = ("hoof_fl", "hoof_fr", "hoof_hl", "hoof_hr", "muzzle", "tail")
-
-
-def landmarks(L):
-    return np.array([L[name] for name in LANDMARKS])
-
-
-def rotation(seed):
-    Q_, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
-    return Q_ * np.sign(np.linalg.det(Q_))
-
-
-def landmark_errors(m, LA, VB, LB):
-    """Per landmark: distance from where A's landmark lands on B to B's, share of B's diagonal;
-    and whether it lands nearest its own counterpart."""
-    landed = np.asarray(m.target)[np.asarray(m.vertex_of_a)[LA]]
-    distances = np.linalg.norm(landed[:, None, :] - VB[LB][None], axis=2)
-    diagonal = np.linalg.norm(np.ptp(VB, axis=0))
-    return np.diag(distances) / diagonal, np.argmin(distances, axis=1) == np.arange(len(LB))
-
-
-def folded_faces(m):
-    S = np.asarray(m.sphere)
-    F = np.asarray(m.faces)
-    return int((np.einsum("ij,ij->i", S[F[:, 0]], np.cross(S[F[:, 1]], S[F[:, 2]])) <= 0).sum())
+from quadrupeds import folded_faces, landmark_errors, landmark_vertices as landmarks, random_rotation as rotation  # noqa: E402
 
 
 def pairs(quick):

@@ -1259,6 +1259,32 @@ def transform(V, F, scale=1.0, rotation=None, offset=(0.0, 0.0, 0.0), inside_out
 
 # --- checks shared by tests and benchmarks -------------------------------------------------
 
+def landmark_vertices(landmarks):
+    """The landmark vertex indices of quadruped() in the order of LANDMARKS."""
+    return np.array([landmarks[name] for name in LANDMARKS])
+
+
+def random_rotation(seed):
+    """A proper rotation (det +1), drawn from `seed`."""
+    q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    return q * np.sign(np.linalg.det(q))
+
+
+def landmark_errors(morph, LA, VB, LB):
+    """For a paramorph_native.Morph of A into B and landmark vertices LA, LB:
+    per landmark the distance from where A's lands at t = 1 to B's, as a share
+    of B's diagonal, and whether it lands nearest its own counterpart."""
+    landed = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)[LA]]
+    distances = np.linalg.norm(landed[:, None, :] - VB[LB][None], axis=2)
+    return np.diag(distances) / np.linalg.norm(np.ptp(VB, axis=0)), np.argmin(distances, axis=1) == np.arange(len(LB))
+
+
+def folded_faces(morph):
+    """Merged faces turned over on the morph's sphere."""
+    S, F = np.asarray(morph.sphere), np.asarray(morph.faces)
+    return int((np.einsum("ij,ij->i", S[F[:, 0]], np.cross(S[F[:, 1]], S[F[:, 2]])) <= 0).sum())
+
+
 def _tri_tri(A, B, eps):
     """Vectorised test for pairs of triangles A, B (n, 3, 3) that cross
     (non-coplanar; touching within eps does not count)."""

@@ -9,32 +9,12 @@ import pytest
 import paramorph_native as pm
 import quadrupeds as Q
 
-LANDMARKS = ("hoof_fl", "hoof_fr", "hoof_hl", "hoof_hr", "muzzle", "tail")
-
-
-def landmarks(L):
-    return np.array([L[name] for name in LANDMARKS])
-
-
-def rotation(seed):
-    q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
-    return q * np.sign(np.linalg.det(q))
+from quadrupeds import folded_faces as folded, landmark_errors, landmark_vertices as landmarks, random_rotation as rotation
 
 
 def landed(m, vertices_of_a):
     """Where A's vertices are at t = 1 (their merged vertices in B's shape)."""
     return np.asarray(m.target)[np.asarray(m.vertex_of_a)[vertices_of_a]]
-
-
-def landmark_errors(m, LA, VB, LB):
-    """Per landmark: distance to B's, share of B's diagonal; and whether each lands nearest its own."""
-    distances = np.linalg.norm(landed(m, LA)[:, None, :] - VB[LB][None], axis=2)
-    return np.diag(distances) / np.linalg.norm(np.ptp(VB, axis=0)), np.argmin(distances, axis=1) == np.arange(len(LB))
-
-
-def folded(m):
-    S, F = np.asarray(m.sphere), np.asarray(m.faces)
-    return int((np.einsum("ij,ij->i", S[F[:, 0]], np.cross(S[F[:, 1]], S[F[:, 2]])) <= 0).sum())
 
 
 @pytest.fixture(scope="module")
