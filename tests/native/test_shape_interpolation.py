@@ -175,3 +175,30 @@ def test_self_intersections_counts_crossing_faces_only():
     assert np.abs(centres[:, 0] - 0.5).max() < 0.35
     with pytest.raises(pm.InvalidInputError):
         pm.self_intersections(V, F + len(V))
+
+
+def test_an_inside_out_source_morphed_on_its_own_topology():
+    """Keep topology with an inside-out source (faces wound inwards, as some
+    files come): the target sampled at its vertices is wound like it, the
+    same shape as for the outward source (volume negated), and the
+    in-betweens keep that side: no face turned over, volume monotone, and no
+    more faces through others than the sampled end itself has (a coarse
+    source sampled onto a finer target can pass through itself there)."""
+    A = Q.quadruped("cow", 3000, seed=0)
+    B = Q.quadruped("horse", 6000, pose=Q.WALK, seed=3)
+    outward = pm.morph(A[0], A[1], B[0], B[1])
+    outward_end = np.asarray(outward.target)[np.asarray(outward.vertex_of_a)]
+    FA = np.ascontiguousarray(A[1][:, ::-1])
+    m = pm.morph(A[0], FA, B[0], B[1])
+    end = np.asarray(m.target)[np.asarray(m.vertex_of_a)]
+    assert volume(A[0], FA) < 0 and volume(end, FA) == pytest.approx(-volume(outward_end, A[1]), rel=0.01)
+    end_crossings = pm.self_intersections(end, FA).intersecting_faces
+    interp = pm.ShapeInterpolation(A[0], end, FA)
+    volumes = [volume(A[0], FA)]
+    for t in (0.25, 0.5, 0.75):
+        P = interp.at(t)
+        assert inverted_share(A[0], end, P, FA) == 0.0
+        assert pm.self_intersections(P, FA).intersecting_faces <= end_crossings
+        volumes.append(volume(P, FA))
+    volumes.append(volume(end, FA))
+    assert np.all(np.diff(volumes) > 0)  # from the cow's towards the horse's, monotone
