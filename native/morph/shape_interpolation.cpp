@@ -263,6 +263,10 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   }
   area_log_.assign(m, Eigen::Vector3d::Zero());
   area_rest_.assign(m, Eigen::Matrix3d::Identity());
+  rest_turn_.assign(m, Eigen::Matrix3d::Identity());
+  rest_axes_.assign(m, Eigen::Matrix3d::Identity());
+  rest_log_stretch_.assign(m, Eigen::Vector3d::Zero());
+  rest_straight_.assign(m, 1);
   own_log_.assign(m, Eigen::Vector3d::Zero());
   own_axes_.assign(m, Eigen::Matrix3d::Identity());
   own_log_stretch_.assign(m, Eigen::Vector3d::Zero());
@@ -272,6 +276,17 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
     const Eigen::Matrix3d area_turn = nearest_rotation(covariance[f]);
     area_log_[f] = log_of(area_turn);
     area_rest_[f] = area_turn.transpose() * gradient[f];
+    {
+      const Eigen::Matrix3d turn = nearest_rotation(area_rest_[f]);
+      const Eigen::Matrix3d S = turn.transpose() * area_rest_[f];
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (S + S.transpose()));
+      if (eigen.eigenvalues().minCoeff() > 0) {
+        rest_turn_[f] = turn;
+        rest_axes_[f] = eigen.eigenvectors();
+        rest_log_stretch_[f] = eigen.eigenvalues().array().log().matrix();
+        rest_straight_[f] = 0;
+      }
+    }
     const Eigen::Matrix3d own_turn = nearest_rotation(gradient[f]);
     own_log_[f] = log_of(own_turn);
     const Eigen::Matrix3d S = own_turn.transpose() * gradient[f];
@@ -325,7 +340,16 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
 Eigen::Matrix3d ShapeInterpolation::wish(Index f, double t, bool neighbourhood) const {
   const Eigen::Matrix3d Gt = rotation_of(t * global_log_);
   if (neighbourhood)
-    return Gt * rotation_of(t * area_log_[f]) * ((1.0 - t) * Eigen::Matrix3d::Identity() + t * area_rest_[f]);
+  {
+    if (rest_straight_[f])
+      return Gt * rotation_of(t * area_log_[f]) * ((1.0 - t) * Eigen::Matrix3d::Identity() + t * area_rest_[f]);
+    // The stretch's uniform scale straight, its shape (determinant 1) by its logarithm.
+    const double log_scale = rest_log_stretch_[f].mean();
+    const double scale = (1.0 - t) + t * std::exp(log_scale);
+    const Eigen::Vector3d shape = (t * (rest_log_stretch_[f].array() - log_scale)).exp().matrix();
+    return Gt * rotation_of(t * area_log_[f]) * ((1.0 - t) * Eigen::Matrix3d::Identity() + t * rest_turn_[f]) *
+           (scale * rest_axes_[f] * shape.asDiagonal() * rest_axes_[f].transpose());
+  }
   const Eigen::Matrix3d stretch =
       own_straight_[f] ? Eigen::Matrix3d((1.0 - t) * Eigen::Matrix3d::Identity() + t * own_axes_[f])
                        : Eigen::Matrix3d(own_axes_[f] * (t * own_log_stretch_[f]).array().exp().matrix().asDiagonal() *
