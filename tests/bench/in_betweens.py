@@ -10,7 +10,8 @@ straight), how far the volume leaves the monotone path between the ends
 the known-truth re-pose also the distance to the true half pose (share of
 the diagonal). Pairs: generated quadrupeds (a horse re-posed on one mesh; a
 horse onto a re-tessellated galloping copy; cow onto horse and back; a coarse
-cow onto a horse) and, when ../shared/models is there, spot onto a horse.
+cow onto a horse; CAD-like parts onto animals; a horse onto a cow turned 150
+degrees as a whole) and, when ../shared/models is there, spot onto a horse.
 Targets (issue 17): turned over <= 0.1 %, self-intersecting <= a fifth of
 straight's, volume within 5 %. turned_between_ends_pct: faces whose normals
 at the two ends point apart (they pass a right angle on the way, where
@@ -24,8 +25,9 @@ import numpy as np
 from common import MODELS, emit, import_native, load_obj
 
 pm = import_native()
-import quadrupeds as Q  # noqa: E402  (tests/native, on sys.path after import_native)
-from in_betweens import face_normals, inverted_share, volume_excursion  # noqa: E402
+import meshes  # noqa: E402  (tests/native, on sys.path after import_native)
+import quadrupeds as Q  # noqa: E402
+from in_betweens import face_normals, inverted_share, inverted_share_turning, rotation, volume_excursion  # noqa: E402
 
 TIMES = (0.25, 0.5, 0.75)
 FOLDED = {"leg_fl": (40.0, 60.0), "leg_fr": (-40.0, 60.0), "leg_hl": (40.0, 60.0), "leg_hr": (-40.0, 60.0),
@@ -48,6 +50,8 @@ def measure(name, source, target, F, extra=None):
     straight = [(1 - t) * source + t * target for t in TIMES]
     record = {"bench": "in_betweens", "pair": name, "faces": len(F),
               "inverted_pct": [round(100 * inverted_share(source, target, P, F), 3) for P in ours],
+              "inverted_pct_turning": [round(100 * inverted_share_turning(source, target, P, F, t), 3)
+                                       for P, t in zip(ours, TIMES)],
               "inverted_pct_straight": [round(100 * inverted_share(source, target, P, F), 3) for P in straight],
               "self_intersecting": [pm.self_intersections(P, F).intersecting_faces for P in ours],
               "self_intersecting_straight": [pm.self_intersections(P, F).intersecting_faces for P in straight],
@@ -93,6 +97,12 @@ def main():
             Q.quadruped("cow", 6000, pose=Q.GALLOP, seed=5))
     morphed("cow 3k -> horse walk 6k (coarse)", Q.quadruped("cow", 3000, seed=0),
             Q.quadruped("horse", 6000, pose=Q.WALK, seed=3))
+    morphed("two-boss CAD part -> horse walk 6k", meshes.two_boss_part(8)[:2],
+            Q.quadruped("horse", 6000, pose=Q.WALK, seed=3))
+    morphed("CAD box with a boss -> cow 6k", meshes.cad_box(8)[:2], Q.quadruped("cow", 6000, seed=0))
+    horse, cow = Q.quadruped("horse", 6000, seed=1), Q.quadruped("cow", 6000, pose=Q.GALLOP, seed=5)
+    morphed("horse 6k -> cow gallop 6k turned 150 degrees", horse,
+            (cow[0] @ rotation([0.2, 1.0, 0.4], 150.0).T, cow[1]))
     if (MODELS / "spot.obj").exists():
         V, F = load_obj(MODELS / "spot.obj")
         morphed("spot 5.9k -> horse walk 20k", (V, F), Q.quadruped("horse", 20000, pose=Q.WALK, seed=3))

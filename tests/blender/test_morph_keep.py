@@ -60,8 +60,8 @@ def state_of(obj):
     return {"vertices": len(mesh.vertices), "faces": [tuple(p.vertices) for p in mesh.polygons],
             "uv": uv.tobytes(), "groups": [g.name for g in obj.vertex_groups],
             "weights": [(g.group, g.weight) for v in mesh.vertices for g in v.groups],
-            "modifiers": [(m.name, m.type, getattr(m, "object", None)) for m in obj.modifiers],
-            "parent": obj.parent, "materials": list(mesh.materials)}
+            "modifiers": [(m.name, m.type, getattr(getattr(m, "object", None), "name", None)) for m in obj.modifiers],
+            "parent": obj.parent and obj.parent.name, "materials": [m and m.name for m in mesh.materials]}
 
 
 def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
@@ -173,3 +173,43 @@ def test_a_cancelled_keep_topology_morph_leaves_the_source_as_it_was(monkeypatch
         assert bpy.ops.paramorph.morph_to(topology="KEEP") == {"CANCELLED"}
         assert source.data.shape_keys is None and MORPH_PROPERTY not in source
         assert source.animation_data is None or source.animation_data.action is None
+
+
+def test_undo_takes_a_morph_back_and_redo_brings_it_again():
+    """One undo step per Morph To, as the UI pushes it: keep topology takes
+    back the keys, the property, its animation and drivers, the rest of the
+    source untouched; merged takes back the new object. Redo brings them back."""
+    source = make_samples.build_octopus(name="Octopus", subdivisions=3, limbs=4)
+    target = make_samples.build_blob(name="Blob", subdivisions=3)
+    target.location = (4.0, 0.0, 0.0)
+    rigged(source)
+    source.shape_key_add(name="Basis", from_mix=False)
+    source.shape_key_add(name="Smile", from_mix=False)
+    before = state_of(source)
+    objects_before = sorted(o.name for o in bpy.data.objects)
+    select_pair(source, target)
+    bpy.ops.ed.undo_push(message="Before Morph To")
+    assert bpy.ops.paramorph.morph_to(topology="KEEP", in_betweens=2) == {"FINISHED"}
+    bpy.ops.ed.undo_push(message="Morph To")
+    assert MORPH_PROPERTY in bpy.data.objects["Octopus"]
+
+    assert bpy.ops.ed.undo() == {"FINISHED"}
+    source = bpy.data.objects["Octopus"]  # undo reloads the data: old references are gone
+    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Smile"]
+    assert MORPH_PROPERTY not in source
+    assert source.animation_data is None or source.animation_data.action is None
+    assert source.data.shape_keys.animation_data is None or not source.data.shape_keys.animation_data.drivers
+    assert state_of(source) == before  # by name: undo reloads every datablock
+    assert bpy.ops.ed.redo() == {"FINISHED"}
+    source = bpy.data.objects["Octopus"]
+    assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Smile", "Blob 33%", "Blob 67%", "Blob"]
+    assert MORPH_PROPERTY in source
+
+    bpy.ops.ed.undo()  # back to before the keys, then a merged morph, undone
+    select_pair(bpy.data.objects["Octopus"], bpy.data.objects["Blob"])
+    bpy.ops.ed.undo_push(message="Before Morph To")
+    assert bpy.ops.paramorph.morph_to(topology="MERGED", in_betweens=1) == {"FINISHED"}
+    bpy.ops.ed.undo_push(message="Morph To")
+    assert "Octopus to Blob" in bpy.data.objects
+    assert bpy.ops.ed.undo() == {"FINISHED"}
+    assert sorted(o.name for o in bpy.data.objects) == objects_before
