@@ -113,9 +113,13 @@ class ShapeInterpolation {
   MatrixX3d fit(double t) const;
   /// Refits the vertices of faces turned over at t (and `rings` rings around
   /// them) to the faces' own wishes, the rest held; kept only when fewer
-  /// faces are turned over after. Returns the faces still turned over.
+  /// faces are turned over after, and fewer turned over and passing through
+  /// others around the moved vertices together. Returns the faces still
+  /// turned over.
   Index repair(double t, int rings, const Sides& sides, MatrixX3d& X) const;
   std::vector<Index> turned_over(const MatrixX3d& X, const Sides& sides) const;
+  /// Faces passing through others among `faces` and a ring around them.
+  Index crossing_faces(const MatrixX3d& X, const std::vector<Index>& faces) const;
   /// A face still turned over at t whose apex lies a hair over its base (a
   /// thin piece) has the apex mirrored back over the base, within the plane
   /// across the normal the face wants, where that turns fewer faces around
