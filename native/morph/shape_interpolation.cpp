@@ -83,6 +83,27 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& M) {
   return U * svd.matrixV().transpose();
 }
 
+/// M = turn · stretch (polar decomposition); where the stretch is positive
+/// definite, its eigenvectors and the logarithms of its eigenvalues.
+struct Polar {
+  Eigen::Matrix3d turn, stretch, axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d log_stretch = Eigen::Vector3d::Zero();
+  bool positive = false;
+};
+
+Polar polar(const Eigen::Matrix3d& M) {
+  Polar out;
+  out.turn = nearest_rotation(M);
+  out.stretch = out.turn.transpose() * M;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (out.stretch + out.stretch.transpose()));
+  out.positive = eigen.eigenvalues().minCoeff() > 0;
+  if (out.positive) {
+    out.axes = eigen.eigenvectors();
+    out.log_stretch = eigen.eigenvalues().array().log().matrix();
+  }
+  return out;
+}
+
 Eigen::Vector3d log_of(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd turn(R);
   return turn.axis() * turn.angle();
@@ -277,28 +298,18 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
     const Eigen::Matrix3d area_turn = nearest_rotation(covariance[f]);
     area_log_[f] = log_of(area_turn);
     area_rest_[f] = area_turn.transpose() * gradient[f];
-    {
-      const Eigen::Matrix3d turn = nearest_rotation(area_rest_[f]);
-      const Eigen::Matrix3d S = turn.transpose() * area_rest_[f];
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (S + S.transpose()));
-      if (eigen.eigenvalues().minCoeff() > 0) {
-        rest_turn_[f] = turn;
-        rest_axes_[f] = eigen.eigenvectors();
-        rest_log_stretch_[f] = eigen.eigenvalues().array().log().matrix();
-        rest_straight_[f] = 0;
-      }
+    const Polar rest = polar(area_rest_[f]);
+    if (rest.positive) {
+      rest_turn_[f] = rest.turn;
+      rest_axes_[f] = rest.axes;
+      rest_log_stretch_[f] = rest.log_stretch;
+      rest_straight_[f] = 0;
     }
-    const Eigen::Matrix3d own_turn = nearest_rotation(gradient[f]);
-    own_log_[f] = log_of(own_turn);
-    const Eigen::Matrix3d S = own_turn.transpose() * gradient[f];
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (S + S.transpose()));
-    if (eigen.eigenvalues().minCoeff() > 0) {
-      own_axes_[f] = eigen.eigenvectors();
-      own_log_stretch_[f] = eigen.eigenvalues().array().log().matrix();
-    } else {
-      own_straight_[f] = 1;  // turned over between the ends: S mixed straight
-      own_axes_[f] = S;
-    }
+    const Polar own = polar(gradient[f]);
+    own_log_[f] = log_of(own.turn);
+    own_log_stretch_[f] = own.log_stretch;
+    own_straight_[f] = !own.positive;  // turned over between the ends: S mixed straight
+    own_axes_[f] = own.positive ? own.axes : own.stretch;
   }
   make_logs_consistent(area_log_, neighbours, face_degenerate_, area0);
   make_logs_consistent(own_log_, neighbours, face_degenerate_, area0);
@@ -419,16 +430,7 @@ Eigen::Vector3d ShapeInterpolation::wanted_side(Index f, double t, const Sides& 
 
 Index ShapeInterpolation::mirror_apexes(double t, const Sides& sides, MatrixX3d& X) const {
   const std::vector<Index> turned = turned_over(X, sides);
-  auto is_turned = [&](Index f) {
-    if (face_degenerate_[f]) return false;
-    const Eigen::Vector3d n = face_normal(X, F_, f);
-    return sides.against_both(f, n);
-  };
-  auto turned_around = [&](Index v) {
-    Index count = 0;
-    for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) count += is_turned(vertex_faces_[p]);
-    return count;
-  };
+  auto is_turned = [&](Index f) { return !face_degenerate_[f] && sides.against_both(f, face_normal(X, F_, f)); };
   Index fixed = 0;
   for (const Index f : turned) {
     if (!is_turned(f)) continue;  // mended by an earlier move
@@ -454,9 +456,9 @@ Index ShapeInterpolation::mirror_apexes(double t, const Sides& sides, MatrixX3d&
     if (2.0 * best_height > 0.25 * longest) continue;
     const Index v = F_(f, best);
     const Eigen::RowVector3d old = X.row(v);
-    const Index before = turned_around(v);
+    const Index before = turned_around(v, X, sides);
     X.row(v) = old + 2.0 * best_height * best_direction.transpose();
-    if (turned_around(v) < before) {
+    if (turned_around(v, X, sides) < before) {
       ++fixed;
     } else {
       X.row(v) = old;
@@ -500,6 +502,15 @@ MatrixX3d ShapeInterpolation::fit(double t) const {
   for (Index v = 0; v < n; ++v)
     if (component_[v] >= 0) X.row(v) += shift[component_[v]] / double(count[component_[v]]);
   return X;
+}
+
+Index ShapeInterpolation::turned_around(Index v, const MatrixX3d& X, const Sides& sides) const {
+  Index count = 0;
+  for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) {
+    const Index f = vertex_faces_[p];
+    count += !face_degenerate_[f] && sides.against_both(f, face_normal(X, F_, f));
+  }
+  return count;
 }
 
 std::vector<Index> ShapeInterpolation::turned_over(const MatrixX3d& X, const Sides& sides) const {
@@ -608,34 +619,44 @@ Index ShapeInterpolation::repair(double t, int rings, const Sides& sides, Matrix
   for (std::size_t k = 0; k < free.size(); ++k) repaired.row(free[k]) = solved.row(Index(k));
   const Index left = Index(turned_over(repaired, sides).size());
   if (left >= Index(turned.size())) return Index(turned.size());
-  std::vector<Index> moved;
-  for (Index f = 0; f < Index(F_.rows()); ++f)
-    if (taken[f]) moved.push_back(f);
-  if (left + crossing_faces(repaired, moved) >= Index(turned.size()) + crossing_faces(X, moved))
-    return Index(turned.size());
+  const auto [crossing_before, crossing_after] = crossing_faces(X, repaired, taken);
+  if (left + crossing_after >= Index(turned.size()) + crossing_before) return Index(turned.size());
   X = std::move(repaired);
   return left;
 }
 
-Index ShapeInterpolation::crossing_faces(const MatrixX3d& X, const std::vector<Index>& faces) const {
-  // The faces and a ring of faces around them, on their own vertices.
+std::pair<Index, Index> ShapeInterpolation::crossing_faces(const MatrixX3d& before, const MatrixX3d& after,
+                                                           const std::vector<char>& moved) const {
+  // The moved faces and a ring of faces around them, on their own vertices.
   std::vector<char> in(F_.rows(), 0);
-  for (Index f : faces)
-    for (int c = 0; c < 3; ++c)
-      for (Index p = vertex_face_start_[F_(f, c)]; p < vertex_face_start_[F_(f, c) + 1]; ++p) in[vertex_faces_[p]] = 1;
-  std::unordered_map<Index, Index> local;
-  std::vector<Index> kept;
   for (Index f = 0; f < Index(F_.rows()); ++f)
-    if (in[f]) kept.push_back(f);
-  MatrixX3i patch(Index(kept.size()), 3);
-  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (moved[f])
+      for (int c = 0; c < 3; ++c)
+        for (Index p = vertex_face_start_[F_(f, c)]; p < vertex_face_start_[F_(f, c) + 1]; ++p)
+          in[vertex_faces_[p]] = 1;
+  std::vector<Index> local(source_.rows(), -1), vertices;
+  std::vector<Eigen::Vector3i> faces;
+  for (Index f = 0; f < Index(F_.rows()); ++f) {
+    if (!in[f]) continue;
+    Eigen::Vector3i face;
     for (int c = 0; c < 3; ++c) {
-      const auto [it, fresh] = local.emplace(F_(kept[k], c), Index(local.size()));
-      patch(Index(k), c) = int(it->second);
+      Index& row = local[F_(f, c)];
+      if (row < 0) {
+        row = Index(vertices.size());
+        vertices.push_back(F_(f, c));
+      }
+      face[c] = int(row);
     }
-  MatrixX3d positions(Index(local.size()), 3);
-  for (const auto& [v, row] : local) positions.row(row) = X.row(v);
-  return self_intersections(positions, patch).intersecting_faces;
+    faces.push_back(face);
+  }
+  MatrixX3i patch(Index(faces.size()), 3);
+  for (std::size_t k = 0; k < faces.size(); ++k) patch.row(Index(k)) = faces[k].transpose();
+  auto count = [&](const MatrixX3d& X) {
+    MatrixX3d positions(Index(vertices.size()), 3);
+    for (std::size_t k = 0; k < vertices.size(); ++k) positions.row(Index(k)) = X.row(vertices[k]);
+    return self_intersections(positions, patch).intersecting_faces;
+  };
+  return {count(before), count(after)};
 }
 
 Index ShapeInterpolation::untangle_vertices(double t, double reach, const Sides& sides, MatrixX3d& X) const {
@@ -705,13 +726,7 @@ Index ShapeInterpolation::untangle_vertices(double t, double reach, const Sides&
       // around) that leaves fewer faces around v turned over.
       if (!x.allFinite() || (x - start).norm() > reach * longest) continue;
       X.row(v) = x.transpose();
-      Index turned_after = 0;
-      for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) {
-        const Index face = vertex_faces_[p];
-        if (face_degenerate_[face]) continue;
-        const Eigen::Vector3d n = face_normal(X, F_, face);
-        turned_after += sides.against_both(face, n);
-      }
+      const Index turned_after = turned_around(v, X, sides);
       if (turned_after < turned_before) {
         mended += turned_before - turned_after;
       } else {

@@ -62,6 +62,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "mesh/types.h"
@@ -118,8 +119,12 @@ class ShapeInterpolation {
   /// turned over.
   Index repair(double t, int rings, const Sides& sides, MatrixX3d& X) const;
   std::vector<Index> turned_over(const MatrixX3d& X, const Sides& sides) const;
-  /// Faces passing through others among `faces` and a ring around them.
-  Index crossing_faces(const MatrixX3d& X, const std::vector<Index>& faces) const;
+  /// Faces around vertex v turned over in X.
+  Index turned_around(Index v, const MatrixX3d& X, const Sides& sides) const;
+  /// Faces passing through others among the `moved` faces (per face: 1 or
+  /// 0) and a ring around them, at `before` and at `after`.
+  std::pair<Index, Index> crossing_faces(const MatrixX3d& before, const MatrixX3d& after,
+                                         const std::vector<char>& moved) const;
   /// A face still turned over at t whose apex lies a hair over its base (a
   /// thin piece) has the apex mirrored back over the base, within the plane
   /// across the normal the face wants, where that turns fewer faces around

@@ -8,7 +8,7 @@ tests/gui/test_overlay_screenshot.py:
 Segments the octopus sample, takes a viewport screenshot with the region
 overlay off and one with it on, and writes pixel statistics of both to
 OUT_DIR/overlay.json (the test asserts on them); then undoes the
-segmentation (undo needs a window) and records what is left; then runs
+segmentation (as Ctrl+Z does, in the window) and records what is left; then runs
 Sphere Map as users do (INVOKE: a modal operator, the native call in a
 thread), cancels it as Esc or the panel's Cancel button would, checks the
 mesh is untouched, runs it again to the end; then Preview Matches (its
@@ -72,13 +72,18 @@ def overlay_on():
     view3d()[1].tag_redraw()
 
 
-def undo():
-    """Undo in a real window (-b has no undo stack): the segmentation goes."""
+def undo_in_window():
+    """Ctrl+Z in the 3D View; old references to data are gone after it."""
     window, area, region = view3d()
-    obj = bpy.data.objects["Octopus"]
-    before = obj.data.attributes.get("paramorph_region") is not None
     with bpy.context.temp_override(window=window, area=area, region=region):
         bpy.ops.ed.undo()
+
+
+def undo():
+    """Undo in a real window: the segmentation goes."""
+    obj = bpy.data.objects["Octopus"]
+    before = obj.data.attributes.get("paramorph_region") is not None
+    undo_in_window()
     obj = bpy.data.objects["Octopus"]
     stats["undo"] = {"regions_before": before,
                      "regions_after": obj.data.attributes.get("paramorph_region") is not None,
@@ -153,14 +158,19 @@ def morph_setup():
     stats["morph"]["objects_before"] = sorted(o.name for o in bpy.data.objects)
 
 
-def morph_invoke():
+def invoke_morph_to(topology):
+    """Morph To from the 3D View (INVOKE, modal) on Octopus and OctopusB; its result."""
     source, target = bpy.data.objects["Octopus"], bpy.data.objects["OctopusB"]
     for obj in (source, target):
         obj.select_set(True)
     bpy.context.view_layer.objects.active = target
     window, area, region = view3d()
     with bpy.context.temp_override(window=window, area=area, region=region):
-        stats["morph"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT", topology="MERGED"))
+        return sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT", topology=topology))
+
+
+def morph_invoke():
+    stats["morph"]["invoke"] = invoke_morph_to("MERGED")
     stats["morph"]["running"] = len(jobs.running())
 
 
@@ -176,22 +186,14 @@ def morph_check_and_undo():
     stats["morph"]["made"] = len(keys) == 10 and keys[0] == "Basis" and keys[-1] == "OctopusB" and \
         "paramorph_morph" in morph and len(morph.data.shape_keys.animation_data.drivers) == 9
     stats["morph"]["objects_done"] = sorted(o.name for o in bpy.data.objects)
-    window, area, region = view3d()
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.ed.undo()
+    undo_in_window()
     stats["morph"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
 
 
 def keep_invoke():
     """Morph To again, keeping the source's topology: keys on Octopus itself."""
-    source, target = bpy.data.objects["Octopus"], bpy.data.objects["OctopusB"]
-    stats["keep"] = {"keys_before": source.data.shape_keys is not None}
-    for obj in (source, target):
-        obj.select_set(True)
-    bpy.context.view_layer.objects.active = target
-    window, area, region = view3d()
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        stats["keep"]["invoke"] = sorted(bpy.ops.paramorph.morph_to("INVOKE_DEFAULT", topology="KEEP"))
+    stats["keep"] = {"keys_before": bpy.data.objects["Octopus"].data.shape_keys is not None}
+    stats["keep"]["invoke"] = invoke_morph_to("KEEP")
 
 
 def keep_written():
@@ -203,9 +205,7 @@ def keep_check_and_undo():
     keys = [] if source.data.shape_keys is None else [k.name for k in source.data.shape_keys.key_blocks]
     stats["keep"]["keys"] = keys
     stats["keep"]["property"] = "paramorph_morph" in source
-    window, area, region = view3d()
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.ed.undo()
+    undo_in_window()
     source = bpy.data.objects["Octopus"]
     stats["keep"]["keys_undone"] = source.data.shape_keys is not None
     stats["keep"]["property_undone"] = "paramorph_morph" in source
