@@ -10,8 +10,8 @@ straight), how far the volume leaves the monotone path between the ends
 the known-truth re-pose also the distance to the true half pose (share of
 the diagonal). Pairs: generated quadrupeds (a horse re-posed on one mesh; a
 horse onto a re-tessellated galloping copy; cow onto horse and back; a coarse
-cow onto a horse; CAD-like parts onto animals; a horse onto a cow turned 150
-degrees as a whole) and, when ../shared/models is there, spot onto a horse.
+cow onto a horse; scan-like noisy, irregular meshes; CAD-like parts onto
+animals; a horse onto a cow turned 150 degrees as a whole) and, when ../shared/models is there, spot onto a horse.
 Targets (issue 17): turned over <= 0.1 %, self-intersecting <= a fifth of
 straight's, volume within 5 %. turned_between_ends_pct: faces whose normals
 at the two ends point apart (they pass a right angle on the way, where
@@ -77,6 +77,13 @@ def reposed_on_one_mesh():
     measure("horse 6k rest -> legs folded (one mesh)", V0, V1, F, to_truth)
 
 
+def scan_like(mesh, seed, noise=0.0005):
+    """The mesh with every vertex moved at random by `noise` of its diagonal (a scan's noise)."""
+    V, F = mesh[0], mesh[1]
+    scale = noise * np.linalg.norm(np.ptp(V, axis=0))
+    return V + np.random.default_rng(seed).normal(scale=scale, size=V.shape), F
+
+
 def morphed(name, A, B):
     m = pm.morph(A[0], A[1], B[0], B[1])
     measure(name, np.asarray(m.source), np.asarray(m.target), np.asarray(m.faces))
@@ -97,6 +104,9 @@ def main():
             Q.quadruped("cow", 6000, pose=Q.GALLOP, seed=5))
     morphed("cow 3k -> horse walk 6k (coarse)", Q.quadruped("cow", 3000, seed=0),
             Q.quadruped("horse", 6000, pose=Q.WALK, seed=3))
+    morphed("scan-like cow 6k -> scan-like horse walk 20k (jitter 0.4, noise 0.05 % of the diagonal)",
+            scan_like(Q.quadruped("cow", 6000, seed=0, jitter=0.4), seed=1),
+            scan_like(Q.quadruped("horse", 20000, pose=Q.WALK, seed=3, jitter=0.4), seed=2))
     morphed("two-boss CAD part -> horse walk 6k", meshes.two_boss_part(8)[:2],
             Q.quadruped("horse", 6000, pose=Q.WALK, seed=3))
     morphed("CAD box with a boss -> cow 6k", meshes.cad_box(8)[:2], Q.quadruped("cow", 6000, seed=0))
