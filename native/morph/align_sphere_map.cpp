@@ -127,6 +127,7 @@ AlignSphereResult align_sphere_map(const MatrixX3d& V, const MatrixX3i& F, const
   solve.epsilon = o.epsilon;
   solve.max_iterations = o.max_iterations;
   solve.tol = o.tol;
+  solve.solver = o.solver;
   solve.target = pull;
   solve.weights = vertex_weight;
   result.solve = optimize_sphere_map(V, F, sphere, solve, progress);

@@ -36,6 +36,7 @@ struct AlignSphereOptions {
   double epsilon = 0.05;       ///< fold bound, as in OptimizeSphereOptions
   int max_iterations = 200;
   double tol = 1e-6;
+  SphereSolver solver = SphereSolver::Auto;  ///< as in OptimizeSphereOptions
   /// Objective weight of a paired vertex's target relative to an unpaired
   /// vertex's (each pair also carries its own weight, e.g. pins higher).
   double feature_weight = 50.0;

@@ -1,8 +1,5 @@
 #include "morph/optimize_sphere_map.h"
 
-#include <IpIpoptApplication.hpp>
-#include <IpTNLP.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -13,6 +10,7 @@
 #include "common/best_rotation.h"
 #include "common/errors.h"
 #include "mesh/validate.h"
+#include "morph/ipopt_polish.h"
 #include "morph/radial_projection.h"
 #include "param/spherical/sphere_map_barrier.h"
 #include "morph/sphere_map_nlp.h"
@@ -23,144 +21,11 @@ namespace {
 
 /// Triple products of unit vectors above -kRoundoff are not folds (rounding).
 constexpr double kRoundoff = 1e-13;
-
-using Ipopt::Index;  // NOLINT: Ipopt's own integer type in the adapter below
-using Ipopt::Number;
-
-/// The Ipopt adapter: structure from SphereMapNlp, values at Ipopt's points;
-/// evaluations at a folded point are refused (Ipopt then shortens the step).
-class SphereMapTnlp : public Ipopt::TNLP {
- public:
-  /// multipliers: Ipopt's lambda (#V sphere rows, then #F faces) for a warm
-  /// start, or empty.
-  SphereMapTnlp(const SphereMapNlp& nlp, const MatrixX3d& start, const VectorXd& multipliers,
-                double epsilon, int max_iterations, ProgressWindow progress)
-      : nlp_(nlp), start_(start), multipliers_(multipliers), epsilon_(epsilon),
-        max_iterations_(max_iterations), progress_(progress) {}
-
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess,
-                    IndexStyleEnum& style) override {
-    n = nlp_.num_variables();
-    m = nlp_.num_constraints();
-    nnz_jac = nlp_.jacobian_nonzeros();
-    nnz_hess = nlp_.hessian_nonzeros();
-    style = TNLP::C_STYLE;
-    return true;
-  }
-
-  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l,
-                       Number* g_u) override {
-    std::fill(x_l, x_l + n, -2e19);
-    std::fill(x_u, x_u + n, 2e19);
-    const Index vertices = Index(start_.rows());
-    std::fill(g_l, g_l + vertices, 1.0);
-    std::fill(g_u, g_u + vertices, 1.0);
-    std::fill(g_l + vertices, g_l + m, epsilon_);
-    std::fill(g_u + vertices, g_u + m, 2e19);
-    return true;
-  }
-
-  bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number* z_l, Number* z_u,
-                          Index m, bool init_lambda, Number* lambda) override {
-    if ((init_z || init_lambda) && multipliers_.size() != m) return false;
-    if (init_z) {  // no variable has bounds: these multipliers are unused
-      std::fill(z_l, z_l + n, 0.0);
-      std::fill(z_u, z_u + n, 0.0);
-    }
-    if (init_lambda) std::copy(multipliers_.data(), multipliers_.data() + m, lambda);
-    for (Index v = 0; v < Index(start_.rows()); ++v)
-      for (int d = 0; d < 3; ++d) x[3 * v + d] = start_(v, d);
-    return init_x;
-  }
-
-  bool eval_f(Index, const Number* x, bool, Number& f) override {
-    if (!fold_free(x)) return false;
-    f = nlp_.objective(x);
-    return true;
-  }
-  bool eval_grad_f(Index, const Number* x, bool, Number* grad) override {
-    nlp_.objective_gradient(x, grad);
-    return true;
-  }
-  bool eval_g(Index, const Number* x, bool, Index, Number* g) override {
-    if (!fold_free(x)) return false;
-    nlp_.constraints(x, g);
-    return true;
-  }
-  bool eval_jac_g(Index, const Number* x, bool, Index, Index, Index* rows, Index* cols,
-                  Number* values) override {
-    if (values == nullptr) {
-      std::copy(nlp_.jacobian_rows().begin(), nlp_.jacobian_rows().end(), rows);
-      std::copy(nlp_.jacobian_cols().begin(), nlp_.jacobian_cols().end(), cols);
-    } else {
-      nlp_.jacobian_values(x, values);
-    }
-    return true;
-  }
-  bool eval_h(Index, const Number* x, bool, Number sigma, Index, const Number* lambda, bool,
-              Index, Index* rows, Index* cols, Number* values) override {
-    if (values == nullptr) {
-      std::copy(nlp_.hessian_rows().begin(), nlp_.hessian_rows().end(), rows);
-      std::copy(nlp_.hessian_cols().begin(), nlp_.hessian_cols().end(), cols);
-    } else {
-      nlp_.hessian_values(x, sigma, lambda, values);
-    }
-    return true;
-  }
-
-  bool intermediate_callback(Ipopt::AlgorithmMode, Index iteration, Number, Number, Number,
-                             Number, Number, Number, Number, Number, Index,
-                             const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    iterations_ = iteration;
-    try {
-      progress_.report(std::min(0.99, double(iteration) / max_iterations_), "optimize sphere map");
-    } catch (const Cancelled&) {
-      cancelled_ = true;  // never throw through Ipopt
-      return false;
-    }
-    return true;
-  }
-
-  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
-                         const Number*, Index, const Number*, const Number*, Number,
-                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    solution_.assign(x, x + n);
-  }
-
-  const std::vector<double>& solution() const { return solution_; }
-  int iterations() const { return iterations_; }
-  bool cancelled() const { return cancelled_; }
-
- private:
-  bool fold_free(const Number* x) const { return nlp_.min_triple(x) > -kRoundoff; }
-
-  const SphereMapNlp& nlp_;
-  const MatrixX3d& start_;
-  const VectorXd& multipliers_;
-  double epsilon_;
-  int max_iterations_;
-  ProgressWindow progress_;
-  std::vector<double> solution_;
-  int iterations_ = 0;
-  bool cancelled_ = false;
-};
-
-std::string status_name(Ipopt::ApplicationReturnStatus status) {
-  switch (status) {
-    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
-    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
-    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
-    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
-    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
-    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
-    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
-    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
-    case Ipopt::Restoration_Failed: return "Restoration_Failed";
-    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
-    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
-    default: return "Ipopt status " + std::to_string(int(status));
-  }
-}
+/// Decades of mu the barrier path descends when it is the whole solve (no
+/// Ipopt). The path's point is within about mu x #F of the optimum in the
+/// objective (each face's log term), so 8 decades from mu ~ the mean triple
+/// product leave a gap ~1e-7 of #V; see tests/bench/optimize_solvers.py.
+constexpr double kBarrierOnlyDecades = 8.0;
 
 }  // namespace
 
@@ -184,6 +49,12 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
              "epsilon is a share of the mean face triple product in (0, 1), got ", o.epsilon);
   PM_REQUIRE(o.max_iterations > 0 && o.polish_iterations > 0 && std::isfinite(o.tol) && o.tol > 0,
              InvalidInputError, "max_iterations, polish_iterations and tol must be positive");
+  PM_REQUIRE(o.solver != SphereSolver::Ipopt || ipopt_available(), InvalidInputError,
+             "solver \"ipopt\" asked for, but this build of paramorph has no Ipopt (CMake option "
+             "PARAMORPH_WITH_IPOPT; the released wheel leaves it out): use \"barrier\" or \"auto\"");
+  PM_REQUIRE(o.warm_start || o.solver != SphereSolver::Barrier, InvalidInputError,
+             "warm_start = false runs Ipopt alone; the barrier solver always follows its path");
+  PM_REQUIRE(o.max_barrier_steps > 0, InvalidInputError, "max_barrier_steps must be positive");
   VectorXd weights = VectorXd::Ones(V.rows());
   if (o.weights) {
     weights = *o.weights;
@@ -244,19 +115,26 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // A start with faces squeezed to rounding is opened first (see
   // sphere_map_barrier); if the barrier's steps run out before its path
   // begins, Ipopt starts cold from the point reached, with all its iterations.
+  // Without Ipopt (solver Barrier, or a build without it) the path goes on
+  // down kBarrierOnlyDecades and its end is the result (see the option).
+  const bool use_ipopt = o.solver == SphereSolver::Ipopt || (o.solver == SphereSolver::Auto && ipopt_available());
   spherical::SphereBarrierResult barrier;
   VectorXd multipliers;
-  if (o.warm_start) {
+  if (!use_ipopt || o.warm_start) {
     const double pull_scale = pull.rowwise().norm().mean();
     spherical::SphereBarrierOptions barrier_options;
     barrier_options.epsilon = result.epsilon;
     barrier_options.mu_start = mean_det * pull_scale;
-    barrier_options.mu_end = 1e-4 * barrier_options.mu_start;
-    barrier = spherical::sphere_map_barrier(F, pull, start, barrier_options, ProgressWindow(progress, 0.0, 0.6));
+    barrier_options.mu_end = (use_ipopt ? 1e-4 : std::pow(10.0, -kBarrierOnlyDecades)) * barrier_options.mu_start;
+    if (!use_ipopt) barrier_options.max_steps = o.max_barrier_steps;
+    barrier = spherical::sphere_map_barrier(F, pull, start, barrier_options,
+                                            ProgressWindow(progress, 0.0, use_ipopt ? 0.6 : 1.0));
     start = barrier.positions;
     result.barrier_steps = barrier.steps;
+    if (!use_ipopt)
+      result.status = barrier.rounds == 0 ? "Barrier_Opening" : barrier.centred ? "Barrier_Converged" : "Barrier_Point";
   }
-  const bool warm = barrier.rounds > 0;  // on the barrier's path: Ipopt starts from it
+  const bool warm = use_ipopt && barrier.rounds > 0;  // on the barrier's path: Ipopt starts from it
   if (warm) {
     // Ipopt's multipliers on the barrier's central path: y_f = -mu / (det_f - b_f)
     // for the faces and, from the radial part of stationarity,
@@ -273,7 +151,9 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   }
 
   result.positions = start;
-  if (warm && !barrier.centred) {
+  if (!use_ipopt) {
+    // The barrier's end (above) is the result.
+  } else if (warm && !barrier.centred) {
     // The path's last round stopped at its step cap, away from the centre:
     // Ipopt did not finish from such points within polish_iterations
     // (tentacle_sphere 0.9k-62.7k faces, the closed bunny: every run ended
@@ -281,44 +161,22 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     // The barrier's point stands: every face above epsilon.
     result.status = "Barrier_Point";
   } else {
-    Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
-    app->Options()->SetIntegerValue("print_level", 0);
-    app->Options()->SetStringValue("sb", "yes");
     // From the barrier's path (every face above epsilon) Ipopt only polishes.
     const bool polish = warm;
-    const int ipopt_iterations = polish ? std::min(o.max_iterations, o.polish_iterations) : o.max_iterations;
-    app->Options()->SetIntegerValue("max_iter", ipopt_iterations);
-    app->Options()->SetNumericValue("tol", o.tol);
-    app->Options()->SetStringValue("linear_solver", "mumps");
-    // Measured on spot (5.9k faces), cold: the monotone barrier converges in
-    // 100 iterations where the adaptive one, lowering mu early, cuts its steps
-    // at folds and has not converged after 300. Per iteration on 5.8k faces:
-    // METIS ordering 0.14 s, Ipopt's automatic choice 0.25 s, PORD 0.19 s;
-    // MUMPS's default 1000% workspace over-allocation costs a third more than
-    // 5% (Ipopt grows it on demand).
-    app->Options()->SetStringValue("mu_strategy", "monotone");
-    app->Options()->SetIntegerValue("mumps_pivot_order", 5);
-    app->Options()->SetIntegerValue("mumps_mem_percent", 5);
-    if (warm) {
-      // Ipopt's default pushes (1e-3, absolute) would move every slack far
-      // from triple products of 1e-8..1e-3 and undo the warm start.
-      app->Options()->SetStringValue("warm_start_init_point", "yes");
-      app->Options()->SetNumericValue("mu_init", barrier.mu);
-      app->Options()->SetNumericValue("warm_start_slack_bound_push", 1e-3 * result.epsilon);
-      app->Options()->SetNumericValue("warm_start_slack_bound_frac", 1e-3);
-      app->Options()->SetNumericValue("warm_start_mult_bound_push", 1e-3 * barrier.mu);
-    }
-    PM_REQUIRE(app->Initialize() == Ipopt::Solve_Succeeded, ComputeError, "Ipopt did not initialise");
-    Ipopt::SmartPtr<SphereMapTnlp> problem = new SphereMapTnlp(
-        nlp, start, multipliers, result.epsilon, ipopt_iterations,
-        ProgressWindow(progress, warm ? 0.6 : 0.0, 1.0));
-    const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(problem);
-    if (problem->cancelled()) throw Cancelled();
-    result.status = status_name(status);
-    result.iterations = problem->iterations();
+    IpoptPolishOptions ipopt;
+    ipopt.epsilon = result.epsilon;
+    ipopt.max_iterations = polish ? std::min(o.max_iterations, o.polish_iterations) : o.max_iterations;
+    ipopt.tol = o.tol;
+    ipopt.warm = warm;
+    ipopt.barrier_mu = barrier.mu;
+    const IpoptPolishResult run =
+        ipopt_polish(nlp, start, multipliers, ipopt, ProgressWindow(progress, warm ? 0.6 : 0.0, 1.0));
+    result.status = run.status;
+    result.iterations = run.iterations;
+    result.used_ipopt = true;
 
-    if (!problem->solution().empty()) {
-      MatrixX3d solved = Eigen::Map<const MatrixX3d>(problem->solution().data(), V.rows(), 3);
+    if (!run.solution.empty()) {
+      MatrixX3d solved = Eigen::Map<const MatrixX3d>(run.solution.data(), V.rows(), 3);
       solved.rowwise().normalize();  // on the sphere to rounding, exactly
       // Ipopt's last point replaces the start only if it leaves no more faces at
       // or below 0 than the start had: a failed run (e.g. Restoration_Failed on

@@ -10,13 +10,13 @@
 //
 // (4.10) lists three constraints per face; for a triangle they are one and the
 // same scalar triple product, so one per face is kept (repeats would make the
-// constraint Jacobian rank-deficient). Solved by Ipopt (interior point,
-// MUMPS) with the exact gradient, Jacobian and Hessian of the Lagrangian,
-// their sparsity built once. An evaluation at a point with a folded face is
-// refused, so Ipopt shortens the step: every accepted iterate is fold-free.
-// Ipopt starts warm from param/spherical/sphere_map_barrier (the same problem with the
-// bounds as a log barrier, followed down a short path of mu by Newton steps
-// on the spheres, after opening any faces the start squeezes to rounding).
+// constraint Jacobian rank-deficient). Solved by param/spherical/sphere_map_barrier
+// (the same problem with the bounds as a log barrier, followed down a path of
+// mu by Newton steps on the spheres, after opening any faces the start
+// squeezes to rounding; every accepted step keeps every face above its
+// bound), then, where the build has Ipopt (morph/ipopt_polish: interior
+// point, MUMPS, exact sparse derivatives; folded points refused), polished by
+// Ipopt from a short path's end; without Ipopt the path goes on to a small mu.
 // The start matters: morph/optimization_start picks the conformal map or,
 // where that squeezes long parts, the thesis' relaxed radial projection.
 #pragma once
@@ -28,6 +28,13 @@
 #include "mesh/types.h"
 
 namespace paramorph::morph {
+
+/// Who finishes the solve (see optimize_sphere_map).
+enum class SphereSolver {
+  Auto,     ///< Ipopt where this build has it (ipopt_available()), else Barrier
+  Barrier,  ///< the log-barrier path alone, followed down 8 decades of mu
+  Ipopt,    ///< Ipopt's polish (InvalidInputError in a build without Ipopt)
+};
 
 struct OptimizeSphereOptions {
   /// Lower bound of each face's triple product, as a share of the mean
@@ -46,6 +53,9 @@ struct OptimizeSphereOptions {
   /// Ipopt alone from the start, as in the thesis (for comparison: spot 100
   /// iterations, 8 s).
   bool warm_start = true;
+  SphereSolver solver = SphereSolver::Auto;
+  /// Newton steps of the barrier path when it is the whole solve.
+  int max_barrier_steps = 600;
   double tol = 1e-6;  ///< Ipopt's convergence tolerance (the thesis used 1e-6)
   /// #V by 3 unit targets v_i^0; the radial projection from the area-weighted
   /// centroid when absent.
@@ -59,6 +69,7 @@ struct OptimizeSphereOptions {
 struct OptimizeSphereResult {
   MatrixX3d positions;        ///< #V by 3 unit vectors, fold-free
   int iterations = 0;         ///< Ipopt's iterations (0 when Ipopt was not run)
+  bool used_ipopt = false;    ///< Ipopt ran (solver Ipopt, or Auto in a build with Ipopt)
   int barrier_steps = 0;      ///< Newton steps of the log-barrier warm start (0: Ipopt alone)
   double objective = 0;       ///< sum_i w_i v_i^0 . v_i at the end (sum_i w_i at best)
   double start_objective = 0;
@@ -67,7 +78,10 @@ struct OptimizeSphereResult {
   Index flipped = 0;          ///< faces with a triple product <= 0 (0 on success)
   /// Ipopt's return status, e.g. "Solve_Succeeded"; "Barrier_Point" where the
   /// barrier path's last round stopped at its step cap and its point (every
-  /// face above epsilon) is returned without Ipopt.
+  /// face above epsilon) is returned without Ipopt; without Ipopt also
+  /// "Barrier_Converged" (the path's last round centred) or
+  /// "Barrier_Opening" (the steps ran out while opening squeezed faces: fold-
+  /// free, but some faces below epsilon).
   std::string status;
   double seconds = 0;
 };

@@ -34,12 +34,20 @@ py::array pairs_to_numpy(const std::vector<std::array<Index, 2>>& pairs) {
   return out;
 }
 
+morph::SphereSolver to_solver(const std::string& name) {
+  if (name == "auto") return morph::SphereSolver::Auto;
+  if (name == "barrier") return morph::SphereSolver::Barrier;
+  if (name == "ipopt") return morph::SphereSolver::Ipopt;
+  throw InvalidInputError("solver must be \"auto\", \"barrier\" or \"ipopt\", got \"" + name + "\"");
+}
+
 void def_optimize_sphere_map(py::module_& m) {
   using morph::OptimizeSphereResult;
   py::class_<OptimizeSphereResult>(m, "OptimizedSphereMap", "Result of optimize_sphere_map().")
       .def_property_readonly("positions", [](const OptimizeSphereResult& r) { return to_numpy(r.positions); },
                              "(n, 3) float64 unit vectors, fold-free")
       .def_readonly("iterations", &OptimizeSphereResult::iterations, "Ipopt's iterations")
+      .def_readonly("used_ipopt", &OptimizeSphereResult::used_ipopt, "whether Ipopt ran")
       .def_readonly("barrier_steps", &OptimizeSphereResult::barrier_steps,
                     "Newton steps of the log-barrier warm start (0: Ipopt alone)")
       .def_readonly("objective", &OptimizeSphereResult::objective,
@@ -59,8 +67,9 @@ void def_optimize_sphere_map(py::module_& m) {
       "optimize_sphere_map",
       [](const py::object& V, const py::object& F, const py::object& sphere, double epsilon,
          int max_iterations, double tol, const py::object& target, const py::object& weights,
-         py::object progress) {
+         const std::string& solver, py::object progress) {
         morph::OptimizeSphereOptions o;
+        o.solver = to_solver(solver);
         o.epsilon = epsilon;
         o.max_iterations = max_iterations;
         o.tol = tol;
@@ -78,7 +87,7 @@ void def_optimize_sphere_map(py::module_& m) {
       },
       py::arg("V"), py::arg("F"), py::arg("sphere") = py::none(), py::kw_only(), py::arg("epsilon") = 0.05,
       py::arg("max_iterations") = 200, py::arg("tol") = 1e-6, py::arg("target") = py::none(),
-      py::arg("weights") = py::none(), py::arg("progress") = py::none(),
+      py::arg("weights") = py::none(), py::arg("solver") = "auto", py::arg("progress") = py::none(),
       R"doc(Optimized sphere map for morphing (thesis 4.3.3): from a fold-free map
 `sphere` (None: the start morph uses, the conformal sphere_map or, where that
 squeezes faces under 1e-6 of the mean triple product, the radial projection
@@ -88,10 +97,12 @@ fold constraints allow to its radial projection from the centroid (or to
 face, det(v_a, v_b, v_c) >= epsilon x (mean start triple product) (4.10;
 lowered to half the start's smallest when the start is tighter). weights: (n,)
 non-negative per-vertex w_i (all 1 when None; thesis (4.12) weighs feature
-points). Ipopt (MUMPS) with exact sparse derivatives, warm-started from a
-log-barrier Newton path on the spheres; every accepted iterate is fold-free.
-status is Ipopt's, or "Barrier_Point" where the path's last round stopped at
-its step cap and its point (every face above epsilon) is returned unpolished.
+points). A log-barrier Newton path on the spheres; every accepted iterate is
+fold-free. solver: "auto" (Ipopt's polish from the path where this build has
+Ipopt, build_info()["ipopt"], else the path followed 8 decades of mu down),
+"barrier" (the path alone), "ipopt" (InvalidInputError without Ipopt). status
+is Ipopt's; without Ipopt "Barrier_Converged"; "Barrier_Point" where the path's
+last round stopped at its step cap (every face above epsilon).
 
 V: (n, 3) float64/float32; F: (m, 3) int32/int64, closed genus 0; sphere:
 (n, 3). progress: callable(fraction, stage) -> bool; False raises Cancelled.
@@ -119,8 +130,10 @@ void def_align_sphere_map(py::module_& m) {
       "align_sphere_map",
       [](const py::object& V, const py::object& F, const py::object& sphere, const py::object& vertices,
          const py::object& targets, const py::object& weights, double epsilon, int max_iterations, double tol,
-         double feature_weight, double warp_width, const py::object& target, py::object progress) {
+         double feature_weight, double warp_width, const py::object& target, const std::string& solver,
+         py::object progress) {
         morph::AlignSphereOptions o;
+        o.solver = to_solver(solver);
         o.epsilon = epsilon;
         o.max_iterations = max_iterations;
         o.tol = tol;
@@ -141,7 +154,8 @@ void def_align_sphere_map(py::module_& m) {
       py::arg("V"), py::arg("F"), py::arg("sphere"), py::arg("vertices"), py::arg("targets"),
       py::arg("weights") = py::none(), py::kw_only(), py::arg("epsilon") = 0.05,
       py::arg("max_iterations") = 200, py::arg("tol") = 1e-6, py::arg("feature_weight") = 50.0,
-      py::arg("warp_width") = 0.0, py::arg("target") = py::none(), py::arg("progress") = py::none(),
+      py::arg("warp_width") = 0.0, py::arg("target") = py::none(), py::arg("solver") = "auto",
+      py::arg("progress") = py::none(),
       R"doc(Feature-aligned sphere map (thesis 4.5, (4.12)): B's map moved so its
 paired vertices land on their targets (e.g. where their partners are on A's
 map), fold-free. The targets of every vertex (B's radial projection, or
