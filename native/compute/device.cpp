@@ -131,10 +131,20 @@ std::shared_ptr<Device> default_device() {
     const char* filter = std::getenv("PARAMORPH_OPENCL_DEVICE");
     const long pick = select_device(infos, filter);
     if (pick < 0) {
-      state.error = filter && *filter
-                        ? "no usable OpenCL device matches PARAMORPH_OPENCL_DEVICE=\"" +
-                              std::string(filter) + "\""
-                        : "no usable OpenCL device found";
+      if (infos.empty()) {
+        // No platform: no driver (ICD) registered with the loader, which is
+        // how a minimal system or a container without a GPU looks.
+        state.error =
+            "no OpenCL driver found (no OpenCL platform: a GPU driver's OpenCL support or, for the CPU, "
+            "pocl-opencl-icd provides one); paramorph runs on its CPU path";
+      } else if (filter && *filter) {
+        state.error = "no usable OpenCL device matches PARAMORPH_OPENCL_DEVICE=\"" + std::string(filter) + "\"";
+      } else {
+        state.error = "no usable OpenCL device found (";
+        for (std::size_t i = 0; i < infos.size(); ++i)
+          state.error += (i ? "; " : "") + infos[i].platform + " / " + infos[i].name + ": " + infos[i].reason;
+        state.error += "); paramorph runs on its CPU path";
+      }
       return;
     }
     try {

@@ -34,7 +34,9 @@ void bind_compute(py::module_& m) {
       },
       "OpenCL devices found, as dicts (platform, name, type, version, usable, reason,\n"
       "global_memory, compute_units, selected). Rejected devices say why in 'reason'.\n"
-      "The selected one is what backend='auto'/'opencl' uses (PARAMORPH_OPENCL_DEVICE picks).");
+      "The selected one is what backend='auto'/'opencl' uses (PARAMORPH_OPENCL_DEVICE picks).\n"
+      "Empty where no OpenCL driver is installed: opencl_error() then says so, and every\n"
+      "function runs on its CPU path.");
   m.def("opencl_available", [] { return compute::default_device() != nullptr; },
         "True when a usable OpenCL device was selected.");
   m.def("opencl_error", &compute::default_device_error,

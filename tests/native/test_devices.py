@@ -23,3 +23,24 @@ def test_pocl_gives_a_usable_device_when_installed():
     if not glob.glob("/etc/OpenCL/vendors/pocl.icd"):
         pytest.skip("PoCL is not installed")
     assert any(d["usable"] for d in pm.devices())
+
+
+def test_with_no_opencl_driver_the_module_imports_runs_on_the_cpu_and_says_why(tmp_path):
+    # The OpenCL loader (ocl-icd) finds no driver when its vendor folder is
+    # empty: a minimal system or a container without a GPU looks like this.
+    import os
+    import subprocess
+    import sys
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import numpy as np, paramorph_native as pm, meshes\n"
+        "assert pm.devices() == [] and not pm.opencl_available(), pm.devices()\n"
+        "V, F = meshes.noisy_blob(2)\n"
+        "r = pm.sphere_map(V, F)\n"
+        "assert r.flipped == 0 and r.backend == 'cpu', (r.flipped, r.backend)\n"
+        "print(pm.opencl_error())\n")
+    env = dict(os.environ, OCL_ICD_VENDORS=str(tmp_path), PYTHONPATH=os.path.dirname(pm.__file__))
+    env.pop("PARAMORPH_OPENCL_DISABLE", None)
+    here = os.path.dirname(os.path.abspath(__file__))
+    proc = subprocess.run([sys.executable, "-c", code, here], env=env, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "no OpenCL driver found" in proc.stdout and "CPU path" in proc.stdout, proc.stdout
