@@ -1,0 +1,50 @@
+"""What the released paramorph_native wheel asks of the system, and plain
+words for a load that fails because the system (or Blender) is older.
+
+The wheel's manylinux policy (scripts/release.sh picks the lowest the build
+allows and fails when it differs from WHEEL_POLICY) fixes the oldest GNU C
+library it loads with; a system below it gets a traceback-like
+"version `GLIBC_2.xx' not found" from the loader, which says nothing to an
+artist. No bpy here: the message is built before anything else loads."""
+import os
+import re
+
+WHEEL_POLICY = "manylinux_2_34_x86_64"
+GLIBC_FLOOR = (2, 34)
+PYTHON = (3, 11)  # Blender 4.2 to 5.0
+
+
+def system_glibc():
+    """(major, minor) of the running GNU C library, or None (not glibc)."""
+    try:
+        text = os.confstr("CS_GNU_LIBC_VERSION") or ""  # e.g. "glibc 2.36"
+    except (ValueError, OSError, AttributeError):
+        return None
+    match = re.match(r"glibc (\d+)\.(\d+)", text)
+    return (int(match[1]), int(match[2])) if match else None
+
+
+def _version(pair):
+    return ".".join(str(part) for part in pair)
+
+
+def explain_load_failure(error_text, glibc=None, python=None):
+    """A plain sentence for a failure the user can act on, or "" when the
+    error is none of those. glibc/python default to the running ones."""
+    glibc = system_glibc() if glibc is None else glibc
+    python = tuple(__import__("sys").version_info[:2]) if python is None else python
+    wanted = [tuple(int(x) for x in found) for found in re.findall(r"GLIBC_(\d+)\.(\d+)", error_text)]
+    if wanted or (glibc is not None and glibc < GLIBC_FLOOR):
+        need = max(wanted + [GLIBC_FLOOR])
+        have = f"glibc {_version(glibc)}" if glibc else "an older one"
+        return (f"This Linux system is too old for paramorph: it needs the GNU C library (glibc) "
+                f"{_version(need)} or newer and has {have}. Linux distributions from 2022 on have it "
+                f"(Debian 12, Ubuntu 22.04, Fedora 35, RHEL 9 and later); update the system to use paramorph.")
+    if "GLIBCXX_" in error_text or "CXXABI_" in error_text:
+        return ("This Linux system's C++ runtime (libstdc++) is older than paramorph needs (that of GCC 12, "
+                "as in Debian 12 or Ubuntu 22.04 and later); update the system to use paramorph.")
+    if python != PYTHON and ("cpython-" in error_text or "No module named" in error_text
+                             or "undefined symbol: Py" in error_text):
+        return (f"paramorph's native module is built for Python {_version(PYTHON)} (Blender 4.2 to 5.0); "
+                f"this Blender runs Python {_version(python)}.")
+    return ""
