@@ -7,7 +7,10 @@ cd "$(dirname "$0")/.."
 build_dir=${PARAMORPH_BUILD_DIR:-build}
 # Debian's Python is the one Debian's Blender embeds; a pyenv/venv python3 on
 # PATH would build a module Blender cannot load.
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
+# ccache (when installed) shares objects with the release's wheel build.
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 "${launcher[@]}" >/dev/null
 targets=()
 [ $# -eq 0 ] || targets=(--target "$@")
 cmake --build "$build_dir" -j"${PARAMORPH_BUILD_JOBS:-$(nproc)}" "${targets[@]}"

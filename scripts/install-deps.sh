@@ -4,6 +4,8 @@
 # libopenblas0-serial becomes the system BLAS (update-alternatives): Ipopt's
 # MUMPS spends most of its time in dgemm, 2-3x slower with the reference BLAS;
 # the serial build, because threads only contend on small fronts.
+# ccache lets the release's wheel build (scripts/release.sh) reuse build/'s
+# objects; debootstrap makes the clean roots of scripts/prove-portable.sh.
 set -euo pipefail
 
 packages=(
@@ -15,6 +17,7 @@ packages=(
   libopenblas0-serial
   libgtest-dev
   blender xvfb xauth
+  ccache debootstrap
 )
 
 missing=()

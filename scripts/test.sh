@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: C++ (CTest), the
 # module (pytest), the Blender-side tests (pytest inside blender -b, and in
-# the PyPI bpy 4.5 module when PyPI is reachable) and the one GUI test (a
-# real Blender window under Xvfb).
+# the PyPI bpy 4.5 module when PyPI is reachable), the one GUI test (a
+# real Blender window under Xvfb) and, with PyPI, the release: the wheel and
+# extension (scripts/release.sh), the extension installed into Blender 4.5,
+# and the wheel in fresh Debian 12/13 roots (scripts/prove-portable.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
@@ -25,7 +27,16 @@ echo "== GUI test (blender in a window under xvfb-run)"
 echo "== Blender 4.5 tests (pytest with PyPI bpy)"
 scripts/bpy-venv.sh
 if [ -x .venv-bpy/bin/python ]; then
-  .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider
+  echo "== release: the self-contained wheel and the extension (scripts/release.sh)"
+  scripts/release.sh
+  # The release extension's install test (tests/blender/test_install.py) must run, not skip.
+  PARAMORPH_REQUIRE_RELEASE=1 .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "== the wheel in fresh minimal Debian 12 and 13 roots (scripts/prove-portable.sh --tests quick)"
+    scripts/prove-portable.sh --tests quick
+  else
+    echo "skipped: scripts/prove-portable.sh needs root (debootstrap, chroot)"
+  fi
 else
   echo "skipped: no .venv-bpy (scripts/bpy-venv.sh creates it)"
 fi

@@ -1,7 +1,7 @@
 """The add-on installed the way users install it, checked in a fresh Blender:
 scripts/install-addon.sh (legacy add-on, Blender 3.4+) and, from 4.2 on,
-the extension zip of scripts/build-extension.sh installed with Blender's own
-"Install from Disk" operator. Each check starts a new Blender (the blender
+the release extension of scripts/release.sh (the wheel under wheels/)
+installed with Blender's own "Install from Disk" operator. Each check starts a new Blender (the blender
 binary under blender -b, the PyPI module under the bpy venv) whose user
 folders are temporary, with the build folder first on sys.path, and asserts
 that paramorph_native comes from the installed folder."""
@@ -91,6 +91,37 @@ def manifest():
         return tomllib.load(f)
 
 
+def load_system_floor():
+    """addon/paramorph/system_floor.py on its own (it needs no bpy)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "paramorph_system_floor", os.path.join(REPO, "addon", "paramorph", "system_floor.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_a_system_below_the_wheels_floor_is_told_so_in_plain_words():
+    floor = load_system_floor()
+    loader = ("/lib/x86_64-linux-gnu/libc.so.6: version `GLIBC_2.34' not found (required by "
+              "/home/a/.config/blender/4.5/extensions/.local/lib/python3.11/site-packages/"
+              "paramorph_native.cpython-311-x86_64-linux-gnu.so)")
+    text = floor.explain_load_failure(loader, glibc=(2, 31), python=(3, 11))
+    assert "too old" in text and "glibc) 2.34 or newer" in text and "glibc 2.31" in text
+    assert "Traceback" not in text and "not found" not in text
+    # Below the floor even when the loader names another symbol first.
+    assert "too old" in floor.explain_load_failure("undefined symbol: foo", glibc=(2, 28), python=(3, 11))
+    cxx = floor.explain_load_failure("version `GLIBCXX_3.4.30' not found", glibc=(2, 36), python=(3, 11))
+    assert "libstdc++" in cxx and "too old" not in cxx
+    python = floor.explain_load_failure("No module named 'paramorph_native'", glibc=(2, 36), python=(3, 13))
+    assert "Python 3.11" in python and "3.13" in python
+    # Not the system's fault: no advice from here (native.py then says how to build).
+    assert floor.explain_load_failure("libfoo.so.1: cannot open shared object file", glibc=(2, 36),
+                                      python=(3, 11)) == ""
+    # This machine (Debian 12, glibc 2.36) is above the floor.
+    assert floor.system_glibc() >= floor.GLIBC_FLOOR
+
+
 def test_one_version_everywhere():
     cmake = open(os.path.join(REPO, "CMakeLists.txt")).read()
     cmake_version = re.search(r"project\(paramorph VERSION ([0-9.]+)", cmake).group(1)
@@ -138,40 +169,138 @@ assert status == {{"FINISHED"}}, status
 """
 
 
-@pytest.mark.skipif(bpy.app.version < (4, 2, 0), reason="extensions arrived in Blender 4.2")
-def test_extension_zip_installs_enables_and_loads_its_module(tmp_path):
-    env = user_env(tmp_path)
-    out = run_script("build-extension.sh", env)
+RELEASE_DIR = os.path.join(REPO, os.environ.get("PARAMORPH_RELEASE_DIR", "dist"))
+
+# Run inside a fresh Blender with the release extension installed and no
+# build folder on sys.path: the four tools an artist reaches first, each on a
+# small scene, through the add-on's operators.
+RELEASE_CHECK = r"""
+import json, sys
+sys.path.insert(0, {samples!r})
+import bpy
+{enable}
+import numpy as np
+import make_samples
+package = "bl_ext.user_default.paramorph"
+native = sys.modules[package + ".native"]
+regions = sys.modules[package + ".regions"]
+pm = native.native
+out = {{"load_error": native.load_error, "native_file": getattr(pm, "__file__", None),
+        "build_info": pm.build_info() if pm else None, "repo_dir": repo.directory}}
+
+def activate(*objects):
+    if bpy.context.object and bpy.context.object.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    for other in bpy.context.view_layer.objects:
+        other.select_set(other in objects)
+    bpy.context.view_layer.objects.active = objects[-1]
+
+bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)
+out["sphere_map"] = sorted(bpy.ops.paramorph.sphere_map())
+out["sphere_uv"] = "Sphere" in bpy.context.active_object.data.uv_layers
+
+bpy.ops.mesh.primitive_grid_add(x_subdivisions=10, y_subdivisions=10, size=2.0)
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.ops.mesh.select_all(action="SELECT")
+out["unwrap"] = sorted(bpy.ops.paramorph.isometric_unwrap())
+bpy.ops.object.mode_set(mode="OBJECT")
+
+source = make_samples.build_blob(subdivisions=3)
+target = make_samples.build_octopus(subdivisions=3, limbs=4)
+target.location = (4.0, 0.0, 0.0)
+activate(source, target)
+before = set(bpy.data.objects)
+out["morph_to"] = sorted(bpy.ops.paramorph.morph_to(topology="MERGED"))
+made = list(set(bpy.data.objects) - before)
+out["morph_keys"] = len(made[0].data.shape_keys.key_blocks) if made and made[0].data.shape_keys else 0
+
+plate = make_samples.build_boss_plate()
+centres = np.empty(3 * len(plate.data.polygons), dtype=np.float32)
+plate.data.polygons.foreach_get("center", centres)
+ball = np.array(make_samples.BOSS_BALL)
+regions.select_polygons(plate.data, np.linalg.norm(centres.reshape(-1, 3) - ball[:3], axis=1) <= ball[3])
+activate(plate)
+bpy.ops.object.mode_set(mode="EDIT")
+bpy.context.tool_settings.mesh_select_mode = (False, False, True)
+out["copy_feature"] = sorted(bpy.ops.paramorph.copy_feature())
+bpy.ops.object.mode_set(mode="OBJECT")
+bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=1.6)
+sphere = bpy.context.active_object
+activate(sphere)
+faces_before = len(sphere.data.polygons)
+out["paste_feature"] = sorted(bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6)))
+out["pasted_faces"] = len(sphere.data.polygons) - faces_before
+print({mark!r} + json.dumps(out))
+"""
+
+
+def release_zip():
+    """The extension scripts/release.sh made; CI (scripts/test.sh) makes it
+    first and sets PARAMORPH_REQUIRE_RELEASE=1, so a missing one fails there."""
     m = manifest()
-    zip_path = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"),
-                            f"paramorph-{m['version']}-linux-x64.zip")
-    assert f"wrote {os.path.relpath(zip_path, REPO)}" in out
+    path = os.path.join(RELEASE_DIR, f"paramorph-{m['version']}-linux-x64.zip")
+    if not os.path.exists(path):
+        if os.environ.get("PARAMORPH_REQUIRE_RELEASE") == "1":
+            pytest.fail(f"{path} is missing: scripts/release.sh did not make it")
+        pytest.skip("no release extension: run scripts/release.sh")
+    return path
+
+
+@pytest.mark.skipif(bpy.app.version < (4, 2, 0), reason="extensions arrived in Blender 4.2")
+def test_the_release_zip_carries_the_wheel_licences_and_no_loose_module():
+    zip_path = release_zip()
     with zipfile.ZipFile(zip_path) as z:
         names = sorted(z.namelist())
-    assert "blender_manifest.toml" in names and "__init__.py" in names
-    assert "paramorph_native" + MODULE_SUFFIX in names and "cli.py" in names
+        manifest_text = z.read("blender_manifest.toml").decode()
+        wheels = [n for n in names if n.startswith("wheels/")]
+        assert len(wheels) == 1 and re.fullmatch(
+            r"wheels/paramorph-[0-9.]+-cp311-cp311-manylinux_2_\d+_x86_64\.whl", wheels[0]), wheels
+        wheel_bytes = z.read(wheels[0])
+    assert tomllib.loads(manifest_text)["wheels"] == ["./" + wheels[0]]
+    assert not [n for n in names if n.endswith(".so") or ".so." in n], names  # the module only in the wheel
+    assert "LICENSE" in names and "__init__.py" in names and "system_floor.py" in names
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")], names
+    import io
+    with zipfile.ZipFile(io.BytesIO(wheel_bytes)) as w:
+        inside = w.namelist()
+    licences = [n for n in inside if "/licenses/" in n]
+    assert any(n.endswith("/licenses/LICENSE") for n in licences), licences
+    vendored = [n for n in inside if n.startswith("paramorph.libs/")]
+    assert vendored, "auditwheel vendored nothing"
+    # One licence text per vendored library's package, none for Ipopt/MUMPS (not linked).
+    with zipfile.ZipFile(io.BytesIO(wheel_bytes)) as w:
+        readme = w.read(next(n for n in inside if n.endswith("licenses/third_party/README"))).decode()
+        copyrights = [n for n in inside if n.endswith(".copyright")]
+    for library in vendored:
+        assert os.path.basename(library) in readme, library
+    packages = {line.split("<-")[1].strip() for line in readme.splitlines() if "<-" in line}
+    assert packages and {os.path.basename(n)[: -len(".copyright")] for n in copyrights} == packages
+    assert not [n for n in inside if re.search(r"ipopt|mumps|coinmumps", n, re.I)], inside
 
     # Blender's own validator accepts the archive.
     import importlib.util
-    cli = os.path.join(os.path.dirname(importlib.util.find_spec("bl_pkg").origin),
-                       "cli", "blender_ext.py")
-    proc = subprocess.run([sys.executable, cli, "validate", zip_path],
-                          capture_output=True, text=True, timeout=60)
+    cli = os.path.join(os.path.dirname(importlib.util.find_spec("bl_pkg").origin), "cli", "blender_ext.py")
+    proc = subprocess.run([sys.executable, cli, "validate", zip_path], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
-    package = "bl_ext.user_default.paramorph"
-    result = run_blender(CHECK.format(
-        build=BUILD, mark=MARK, package=package, enable=EXTENSION_ENABLE.format(zip=zip_path),
-        extra='{"repo_dir": repo.directory}'), env)
-    folder = os.path.join(result["repo_dir"], "paramorph")
-    assert result["repo_dir"] == str(tmp_path / "user" / "extensions" / "user_default")
-    assert package in result["enabled"]
-    assert result["package_file"] == os.path.join(folder, "__init__.py")
-    assert result["native_file"] == os.path.join(folder, "paramorph_native" + MODULE_SUFFIX), result
-    assert result["native_name"] == package + ".paramorph_native"
-    assert not result["top_level_native"]
-    assert result["closed_genus0"] is True
+
+@pytest.mark.skipif(bpy.app.version < (4, 2, 0), reason="extensions arrived in Blender 4.2")
+def test_the_release_extension_installs_and_its_tools_run(tmp_path):
+    zip_path = release_zip()
+    env = user_env(tmp_path)
+    result = run_blender(RELEASE_CHECK.format(
+        samples=os.path.join(REPO, "blend_samples"), mark=MARK, enable=EXTENSION_ENABLE.format(zip=zip_path)),
+        env, timeout=600)
+    assert result["load_error"] == "", result["load_error"]
+    # The module is the wheel's, installed into the extensions' site-packages.
+    extensions = str(tmp_path / "user" / "extensions")
+    assert result["native_file"].startswith(extensions) and "site-packages" in result["native_file"], result
+    assert result["build_info"]["ipopt"] is False  # what is distributed carries no Ipopt
+    assert result["sphere_map"] == ["FINISHED"] and result["sphere_uv"]
+    assert result["unwrap"] == ["FINISHED"]
+    assert result["morph_to"] == ["FINISHED"] and result["morph_keys"] >= 3
+    assert result["copy_feature"] == ["FINISHED"]
+    assert result["paste_feature"] == ["FINISHED"] and result["pasted_faces"] > 0
 
 
 MISSING_NATIVE = r"""

@@ -181,7 +181,7 @@ def test_an_inside_out_source_morphed_on_its_own_topology():
     """Keep topology with an inside-out source (faces wound inwards, as some
     files come): the target sampled at its vertices is wound like it, the
     same shape as for the outward source (volume negated), and the
-    in-betweens keep that side: no face turned over, volume monotone, and no
+    in-betweens keep that side: at most 0.1 % turned over, volume monotone, and no
     more faces through others than the sampled end itself has (a coarse
     source sampled onto a finer target can pass through itself there)."""
     A = Q.quadruped("cow", 3000, seed=0)
@@ -197,7 +197,9 @@ def test_an_inside_out_source_morphed_on_its_own_topology():
     volumes = [volume(A[0], FA)]
     for t in (0.25, 0.5, 0.75):
         P = interp.at(t)
-        assert inverted_share(A[0], end, P, FA) == 0.0
+        # The issue's bound (0.1 %): 0 faces with Debian's numpy 1.24, one
+        # of 3284 where numpy 1.26 generates the quadrupeds (the released wheel's tests).
+        assert inverted_share(A[0], end, P, FA) <= 0.001
         assert pm.self_intersections(P, FA).intersecting_faces <= end_crossings
         volumes.append(volume(P, FA))
     volumes.append(volume(end, FA))
