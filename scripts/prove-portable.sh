@@ -16,7 +16,11 @@
 # are Debian 13's.
 # Pristine roots are cached under $PARAMORPH_ROOTS (default
 # /var/tmp/paramorph-roots) and each check runs in a throwaway copy.
-# Usage: scripts/prove-portable.sh [--wheel FILE] [--suites "bookworm trixie"] [--tests full|quick]
+# Then (unless --no-blender) the extension zip beside the wheel is installed
+# into Blender 4.5 (PyPI bpy, temporary user folders) and Sphere Map,
+# Isometric Unwrap, Morph To, Copy and Paste Feature run from it
+# (tests/blender/test_install.py -k release).
+# Usage: scripts/prove-portable.sh [--wheel FILE] [--suites "bookworm trixie"] [--tests full|quick] [--no-blender]
 # Needs root (debootstrap, chroot, mount) and the Debian archive and PyPI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,8 +29,10 @@ repo=$PWD
 wheel=""
 suites="bookworm trixie"
 tests=full
+blender=yes
 while [ $# -gt 0 ]; do
   case "$1" in
+    --no-blender) blender=no; shift ;;
     --wheel) wheel=$2; shift 2 ;;
     --suites) suites=$2; shift 2 ;;
     --tests) tests=$2; shift 2 ;;
@@ -151,3 +157,10 @@ EOF" || { say "the module failed without OpenCL"; exit 1; }
   scratch=""
 done
 echo "prove-portable: the wheel is portable to: $suites"
+
+if [ "$blender" = yes ]; then
+  [ -x .venv-bpy/bin/python ] || scripts/bpy-venv.sh
+  echo "prove-portable: the extension in Blender 4.5 (tests/blender/test_install.py -k release)"
+  PARAMORPH_RELEASE_DIR=$(dirname "$wheel") PARAMORPH_REQUIRE_RELEASE=1 \
+    .venv-bpy/bin/python -m pytest tests/blender/test_install.py -k release -q -p no:cacheprovider
+fi

@@ -41,8 +41,8 @@ def explain_load_failure(error_text, glibc=None, python=None):
                 f"{_version(need)} or newer and has {have}. Linux distributions from 2022 on have it "
                 f"(Debian 12, Ubuntu 22.04, Fedora 35, RHEL 9 and later); update the system to use paramorph.")
     if "GLIBCXX_" in error_text or "CXXABI_" in error_text:
-        return ("This Linux system's C++ runtime (libstdc++) is older than paramorph needs (that of GCC 12, "
-                "as in Debian 12 or Ubuntu 22.04 and later); update the system to use paramorph.")
+        return ("This Linux system's C++ runtime (libstdc++) is older than paramorph needs (that of GCC 11, "
+                "as in Debian 12, Ubuntu 22.04 or RHEL 9 and later); update the system to use paramorph.")
     if python != PYTHON and ("cpython-" in error_text or "No module named" in error_text
                              or "undefined symbol: Py" in error_text):
         return (f"paramorph's native module is built for Python {_version(PYTHON)} (Blender 4.2 to 5.0); "
