@@ -1,10 +1,8 @@
 // As-rigid-as-possible in-betweens (morph/shape_interpolation.h).
 #include "morph/shape_interpolation.h"
 
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <Eigen/MetisSupport>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "common/fill_reducing_ordering.h"
 #include "common/best_rotation.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
@@ -22,7 +21,7 @@
 namespace paramorph::morph {
 
 struct ShapeInterpolation::Factor {
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> llt;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, FillReducingOrdering<int>> llt;
 };
 
 namespace {

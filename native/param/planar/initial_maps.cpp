@@ -1,12 +1,11 @@
 #include "param/planar/initial_maps.h"
 
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
-#include <Eigen/MetisSupport>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 
+#include "common/fill_reducing_ordering.h"
 #include "common/errors.h"
 #include "mesh/cotangent_weights.h"
 #include "param/planar/laplacian_preconditioner.h"
@@ -86,7 +85,7 @@ MatrixX2d blend_pins(const TriMesh& mesh, const MatrixX2d& start, const std::vec
     }
   Eigen::SparseMatrix<double> A(nf, nf);
   A.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> llt(A);
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, FillReducingOrdering<int>> llt(A);
   PM_REQUIRE(llt.info() == Eigen::Success, DisconnectedError,
              "the pin blending system is singular: a part of the mesh holds no pin");
   const Eigen::MatrixXd D = llt.solve(rhs);
@@ -172,7 +171,7 @@ MatrixX2d lscm_map(const TriMesh& mesh) {
     }
   Eigen::SparseMatrix<double> Q(2 * free_count, 2 * free_count);
   Q.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> solver(Q);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, FillReducingOrdering<int>> solver(Q);
   PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
              "the conformal map system is singular (is the mesh connected?)");
   const VectorXd x = solver.solve(rhs);

@@ -1,9 +1,8 @@
 #include "param/planar/laplacian_preconditioner.h"
 
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
-#include <Eigen/MetisSupport>
 #include <Eigen/SparseCholesky>
 
+#include "common/fill_reducing_ordering.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
 #include "mesh/cotangent_weights.h"
@@ -11,7 +10,7 @@
 namespace paramorph::planar {
 
 struct LaplacianPreconditioner::Factor {
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::MetisOrdering<int>> llt;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, FillReducingOrdering<int>> llt;
 };
 
 FreeVertices free_vertices(const std::vector<char>& fixed) {

@@ -14,12 +14,11 @@
 // map to the origin so no region starts collapsed.
 #pragma once
 
-#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
-#include <Eigen/MetisSupport>
 #include <Eigen/SparseCholesky>
 #include <memory>
 #include <vector>
 
+#include "common/fill_reducing_ordering.h"
 #include "common/progress.h"
 #include "mesh/tri_mesh.h"
 #include "param/spherical/spring_graph.h"
@@ -31,7 +30,7 @@ namespace paramorph::spherical {
 /// embedding and, reused, the PCG preconditioner of the outer loop.
 struct PuncturedLaplacian {
   using Factor = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower,
-                                      Eigen::MetisOrdering<int>>;
+                                      FillReducingOrdering<int>>;
   Index puncture = -1;
   std::vector<Index> ring;             ///< 1-ring of the puncture, in face orientation order
   std::vector<Index> interior_index;   ///< #V: row in the factor, or -1 (puncture and ring)

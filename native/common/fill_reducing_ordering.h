@@ -1,0 +1,32 @@
+// The fill-reducing ordering of every Eigen sparse Cholesky factorization in
+// the core: METIS's nested dissection (Eigen::MetisOrdering), which halves
+// AMD's fill on 100k-vertex meshes, except on small matrices, where METIS 5
+// can divide by zero (a tetrahedron's punctured Laplacian: SIGFPE in
+// FM_2WayCutRefine, the process killed) and the fill does not matter: AMD.
+#pragma once
+
+#include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
+#include <Eigen/MetisSupport>
+#include <Eigen/OrderingMethods>
+
+namespace paramorph {
+
+/// Below this many rows the AMD ordering is used.
+constexpr Eigen::Index kSmallestMetisOrdering = 1000;
+
+/// An Eigen ordering (the Ordering parameter of SimplicialLLT/LDLT).
+template <typename StorageIndex>
+class FillReducingOrdering {
+ public:
+  using PermutationType = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex>;
+
+  template <typename MatrixType>
+  void operator()(const MatrixType& A, PermutationType& permutation) {
+    if (A.rows() < kSmallestMetisOrdering)
+      Eigen::AMDOrdering<StorageIndex>()(A, permutation);
+    else
+      Eigen::MetisOrdering<StorageIndex>()(A, permutation);
+  }
+};
+
+}  // namespace paramorph
