@@ -6,15 +6,20 @@
 #include <exception>
 #include <optional>
 
+#include "common/errors.h"
 #include "common/progress.h"
 
 namespace paramorph::python {
 
 namespace py = pybind11;
 
-/// progress(fraction: float, stage: str) -> bool | None; returning False cancels.
-/// An exception raised by the callable cancels the run and is re-raised by
-/// rethrow_if_failed() once the GIL is held again.
+/// progress(fraction: float, stage: str) -> anything. One rule for every
+/// return type: None (no return statement) or a true value goes on, a false
+/// value (False, 0, "", numpy's False) cancels, as Python's `if` reads it. A
+/// value without a truth value (a numpy array of several elements) cancels
+/// with InvalidInputError; an exception raised by the callable cancels the run
+/// and is re-raised as it is. Both come out of rethrow_if_failed() once the
+/// GIL is held again.
 class PythonProgress {
  public:
   explicit PythonProgress(py::object callable) : callable_(std::move(callable)) {
@@ -22,13 +27,24 @@ class PythonProgress {
       progress_.emplace(
           [this](double fraction, const std::string& stage) {
             py::gil_scoped_acquire gil;
+            py::object answer;
             try {
-              py::object answer = callable_(fraction, stage);
-              return answer.is_none() || answer.cast<bool>();
+              answer = callable_(fraction, stage);
             } catch (...) {
               failure_ = std::current_exception();
               return false;
             }
+            if (answer.is_none()) return true;
+            const int truth = PyObject_IsTrue(answer.ptr());
+            if (truth < 0) {
+              const std::string type = py::str(py::type::of(answer).attr("__name__"));
+              PyErr_Clear();
+              failure_ = std::make_exception_ptr(InvalidInputError(
+                  "the progress callback returned a " + type +
+                  " without a truth value: return None or True to go on, False to cancel"));
+              return false;
+            }
+            return truth == 1;
           },
           0.2);
   }
