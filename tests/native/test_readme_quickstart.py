@@ -23,7 +23,7 @@ def quickstart():
 
 def save_obj(path, V, F):
     with open(path, "w") as f:
-        f.writelines("v %r %r %r\n" % tuple(v) for v in V)
+        f.writelines("v %.17g %.17g %.17g\n" % tuple(v) for v in V)
         f.writelines("f %d %d %d\n" % tuple(t + 1) for t in F)
 
 
