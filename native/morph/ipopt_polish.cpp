@@ -7,6 +7,7 @@
 #include <IpTNLP.hpp>
 
 #include <algorithm>
+#include <mutex>
 
 namespace paramorph::morph {
 
@@ -159,6 +160,10 @@ bool ipopt_available() { return true; }
 
 IpoptPolishResult ipopt_polish(const SphereMapNlp& nlp, const MatrixX3d& start, const VectorXd& multipliers,
                                const IpoptPolishOptions& o, ProgressWindow progress) {
+  // The sequential MUMPS behind Ipopt keeps global state: two runs at once
+  // (two Python threads, the GIL released) crashed the process. One at a time.
+  static std::mutex one_at_a_time;
+  const std::lock_guard<std::mutex> lock(one_at_a_time);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");

@@ -34,7 +34,8 @@ struct IpoptPolishResult {
   int iterations = 0;
 };
 
-/// Runs Ipopt on `nlp` from `start` (#V by 3). Points with a folded face are
+/// Runs Ipopt on `nlp` from `start` (#V by 3), one call at a time in the
+/// process (MUMPS is not thread-safe; concurrent callers wait). Points with a folded face are
 /// refused to Ipopt, so every iterate it accepts is fold-free. Raises
 /// Cancelled when the progress callback asks to stop, InvalidInputError in a
 /// build without Ipopt.

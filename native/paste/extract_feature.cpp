@@ -79,7 +79,8 @@ planar::PlanarMapResult fold_free_map(const MatrixX3d& X, const MatrixX3i& F, pl
 
 Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vector<Index>& feature_faces,
                         const ExtractFeatureOptions& o, Progress* progress) {
-  PM_REQUIRE(o.resolution >= 2, InvalidInputError, "resolution must be at least 2, got ", o.resolution);
+  PM_REQUIRE(o.resolution >= 2 && o.resolution <= kMaxFeatureResolution, InvalidInputError,
+             "resolution must be between 2 and ", kMaxFeatureResolution, ", got ", o.resolution);
   if (progress) progress->report(0.0, "validate");
   validate_arrays(V, F);
   const TriMesh mesh(V, F);

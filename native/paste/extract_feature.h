@@ -28,14 +28,14 @@
 namespace paramorph::paste {
 
 struct ExtractFeatureOptions {
-  int resolution = 64;  ///< displacement grid nodes per side (>= 2)
+  int resolution = 64;  ///< displacement grid nodes per side, 2 to kMaxFeatureResolution
   compute::Backend backend = compute::Backend::Auto;  ///< of the two isometric_map runs
 };
 
 /// V: #V by 3 source positions; F: #F by 3 faces (counter-clockwise seen from
 /// outside); feature_faces: indices into F of the feature, any order.
 /// Throws InvalidInputError (malformed arrays, selected index out of range or
-/// repeated, resolution < 2), NonManifoldError / DegenerateFaceError (source),
+/// repeated, resolution outside [2, kMaxFeatureResolution]), NonManifoldError / DegenerateFaceError (source),
 /// EmptySelectionError, WholeMeshSelectedError, SelectionTopologyError
 /// (paste/selection_patch.h), ConstraintError when a map cannot be made
 /// fold-free, Cancelled.

@@ -34,6 +34,11 @@
 
 namespace paramorph::paste {
 
+/// Largest displacement grid side: 2048^2 nodes hold 100 MB of displacements;
+/// far more than any feature's detail needs, and the allocation of a much
+/// larger one (65536: 100 GB) crashed the process.
+constexpr int kMaxFeatureResolution = 2048;
+
 struct Feature {
   MatrixX3i F;              ///< #Fs by 3 faces (local vertex indices, source orientation)
   MatrixX3d V;              ///< #Vs by 3 feature positions, feature frame

@@ -162,8 +162,8 @@ Feature from_arrays(const py::dict& d) {
   f.grid_spacing = *float_array(d, "grid_spacing", {}).data();
   const auto displacement = float_array(d, "displacement", {-1, -1, 3});
   const py::ssize_t r = displacement.shape(0);
-  PM_REQUIRE(r >= 2 && displacement.shape(1) == r, InvalidInputError,
-             "\"displacement\" must be (r, r, 3) with r >= 2");
+  PM_REQUIRE(r >= 2 && r <= paste::kMaxFeatureResolution && displacement.shape(1) == r, InvalidInputError,
+             "\"displacement\" must be (r, r, 3) with 2 <= r <= ", paste::kMaxFeatureResolution);
   PM_REQUIRE(f.radius > 0 && f.grid_spacing > 0, InvalidInputError, "radius and grid_spacing must be positive");
   f.resolution = int(r);
   f.displacement = to_matrix<MatrixX3d>(displacement, Index(r * r));

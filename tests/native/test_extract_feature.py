@@ -198,6 +198,17 @@ def test_bad_indices(small_bump):
         pm.extract_feature(V, F, np.append(faces, -1))
     with pytest.raises(pm.InvalidInputError, match="resolution"):
         pm.extract_feature(V, F, faces, resolution=1)
+    # A grid far too large was allocated and crashed the process (65536) or
+    # raised an untyped MemoryError (40000): refused before any allocation.
+    for resolution in (2049, 40000, 65536, 2**31 - 1):
+        with pytest.raises(pm.InvalidInputError, match="between 2 and 2048"):
+            pm.extract_feature(V, F, faces, resolution=resolution)
+    # The stored form is held to the same bound.
+    arrays = pm.extract_feature(V, F, faces, resolution=8).to_arrays()
+    arrays["displacement"] = np.zeros((2049, 2049, 3))
+    arrays["mask"] = np.ones((2049, 2049), np.uint8)
+    with pytest.raises(pm.InvalidInputError, match="2 <= r <= 2048"):
+        pm.Feature.from_arrays(arrays)
 
 
 def test_two_pieces_are_not_connected():
