@@ -78,10 +78,13 @@ AlignSphereResult align_sphere_map(const MatrixX3d& V, const MatrixX3i& F, const
   const Index pairs = Index(vertices.size());
   PM_REQUIRE(targets.rows() == pairs && targets.allFinite(), InvalidInputError,
              "targets must be a finite (", pairs, ", 3) array, one per paired vertex");
+  for (Index i = 0; i < pairs; ++i)
+    PM_REQUIRE(targets.row(i).norm() > 0, InvalidInputError, "target ", i,
+               " is the zero vector: a target is a direction on the sphere");
   PM_REQUIRE(weights.size() == 0 || weights.size() == pairs, InvalidInputError,
              "weights must have one value per pair (", pairs, "), got ", weights.size());
-  PM_REQUIRE(weights.size() == 0 || (weights.array() > 0).all(), InvalidInputError,
-             "pair weights must be positive");
+  PM_REQUIRE(weights.size() == 0 || (weights.allFinite() && (weights.array() > 0).all()), InvalidInputError,
+             "pair weights must be positive and finite");
   PM_REQUIRE(std::isfinite(o.feature_weight) && o.feature_weight > 0, InvalidInputError,
              "feature_weight must be positive");
   PM_REQUIRE(std::isfinite(o.warp_width) && o.warp_width >= 0 && o.warp_width < M_PI,

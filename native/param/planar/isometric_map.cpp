@@ -135,8 +135,10 @@ PlanarMetrics planar_metrics(const MatrixX3d& V, const MatrixX3i& F, const Matri
 PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const PlanarMapOptions& o,
                               Progress* progress) {
   const auto start = std::chrono::steady_clock::now();
-  PM_REQUIRE(o.max_iterations >= 0 && o.tol >= 0 && o.soft_weight >= 0, InvalidInputError,
-             "need max_iterations >= 0, tol >= 0 and soft_weight >= 0");
+  PM_REQUIRE(o.max_iterations >= 0 && std::isfinite(o.tol) && o.tol >= 0 && std::isfinite(o.soft_weight) &&
+                 o.soft_weight >= 0,
+             InvalidInputError, "need max_iterations >= 0, a finite tol >= 0 and a finite soft_weight >= 0 (got tol ",
+             o.tol, ", soft_weight ", o.soft_weight, ")");
   if (progress) progress->report(0.0, "validate");
   validate_arrays(V, F);
   const TriMesh mesh(V, F);

@@ -47,11 +47,13 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   const auto start = std::chrono::steady_clock::now();
   SphereMapResult result;
   StageClock clock(result.timings);
-  PM_REQUIRE(options.tol > 0 && options.max_iterations > 0 && options.max_outer_iterations >= 0 &&
+  PM_REQUIRE(std::isfinite(options.tol) && options.tol > 0 && std::isfinite(options.outer_tol) &&
+                 options.outer_tol >= 0 && options.max_iterations > 0 && options.max_outer_iterations >= 0 &&
                  options.check_every > 0 && options.omega > 0 && options.omega < 1,
              InvalidInputError,
-             "need tol > 0, max_iterations > 0, max_outer_iterations >= 0, check_every > 0 "
-             "and 0 < omega < 1");
+             "need a finite tol > 0, a finite outer_tol >= 0, max_iterations > 0, max_outer_iterations >= 0, "
+             "check_every > 0 and 0 < omega < 1 (got tol ", options.tol, ", outer_tol ", options.outer_tol,
+             ", omega ", options.omega, ")");
   if (progress) progress->report(0.0, "validate");
 
   validate_arrays(V_in, F_in);

@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "common/errors.h"
+
 namespace paramorph::spherical {
 
 double sphere_orientation(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -39,6 +41,13 @@ VectorXd area_stretch(const TriMesh& mesh, const MatrixX3d& X) {
   const VectorXd mapped = face_areas(X, mesh.F());
   const double surface_total = surface.sum();
   const double mapped_total = mapped.sum();
+  PM_REQUIRE(X.rows() == mesh.num_vertices() && X.allFinite(), InvalidInputError,
+             "the sphere positions must be finite, one row per vertex");
+  PM_REQUIRE(std::isfinite(surface_total) && surface_total > 0, InvalidInputError,
+             "the mesh's area is ", surface_total == 0 ? "zero" : "not finite (coordinates too large: scale the mesh)",
+             ": area stretch compares each face's share of it");
+  PM_REQUIRE(std::isfinite(mapped_total) && mapped_total > 0, InvalidInputError,
+             "the mapped surface's area is zero or not finite: give the sphere map's positions");
   const Index m = mesh.num_faces();
   VectorXd face_stretch(m);
   for (Index f = 0; f < m; ++f) {
