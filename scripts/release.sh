@@ -145,6 +145,12 @@ with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
     z.writestr("blender_manifest.toml", text)
     z.write("LICENSE", "LICENSE")
     z.write(wheel, f"wheels/{wheel_name}")
+    # The vendored libraries' licence texts also beside the wheel, readable
+    # without unpacking it.
+    with zipfile.ZipFile(wheel) as w:
+        for name in w.namelist():
+            if "/licenses/third_party/" in name:
+                z.writestr("licenses/third_party/" + name.split("/licenses/third_party/", 1)[1], w.read(name))
 os.replace(tmp, archive)
 print(archive)
 EOF

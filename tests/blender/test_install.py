@@ -259,6 +259,7 @@ def test_the_release_zip_carries_the_wheel_licences_and_no_loose_module():
     assert tomllib.loads(manifest_text)["wheels"] == ["./" + wheels[0]]
     assert not [n for n in names if n.endswith(".so") or ".so." in n], names  # the module only in the wheel
     assert "LICENSE" in names and "__init__.py" in names and "system_floor.py" in names
+    assert "licenses/third_party/README" in names and any(n.endswith(".copyright") for n in names), names
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")], names
     import io
     with zipfile.ZipFile(io.BytesIO(wheel_bytes)) as w:
