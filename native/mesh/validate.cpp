@@ -5,12 +5,19 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "common/errors.h"
 
 namespace paramorph {
+
+namespace {
+constexpr double kLargestCoordinate = 1e150;
+constexpr double kSmallestExtent = 1e-150;
+}  // namespace
 
 std::string format_indices(const std::vector<Index>& indices, std::size_t max_shown) {
   std::ostringstream out;
@@ -93,6 +100,15 @@ void validate_arrays(const MatrixX3d& V, const MatrixX3i& F) {
     if (!V.row(v).allFinite()) bad_vertices.push_back(v);
   PM_REQUIRE(bad_vertices.empty(), InvalidInputError, "non-finite (NaN or inf) coordinates at ",
              count_of(bad_vertices.size(), "vertex", "vertices"), ": ", format_indices(bad_vertices));
+  // Areas are products of two coordinate differences: beyond ~1e150 they
+  // overflow to inf, below ~1e-150 they round to 0 (and every face reads as
+  // degenerate, which would be the wrong advice).
+  const double largest = V.cwiseAbs().maxCoeff();
+  const double extent = (V.colwise().maxCoeff() - V.colwise().minCoeff()).maxCoeff();
+  PM_REQUIRE(largest <= kLargestCoordinate && (extent == 0 || extent >= kSmallestExtent), InvalidInputError,
+             "the mesh's coordinates reach ", largest, " and it spans ", extent,
+             ": face areas would ", largest > kLargestCoordinate ? "overflow" : "round to zero",
+             " in double precision; scale the mesh (e.g. to metres) first");
   std::vector<Index> bad_faces;
   Index first_face = -1, first_value = 0;
   for (Index f = 0; f < Index(F.rows()); ++f)
@@ -154,8 +170,17 @@ MeshReport validate(const TriMesh& mesh, double relative_area_tolerance) {
     const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
     const Eigen::Vector3d e1 = (V.row(b) - V.row(a)).transpose();
     const Eigen::Vector3d e2 = (V.row(c) - V.row(a)).transpose();
-    if (a == b || b == c || a == c || 0.5 * e1.cross(e2).norm() <= min_area)
-      r.degenerate_faces.push_back(f);
+    const bool repeated = a == b || b == c || a == c;
+    if (repeated) r.repeated_vertex_faces.push_back(f);
+    if (repeated || 0.5 * e1.cross(e2).norm() <= min_area) r.degenerate_faces.push_back(f);
+  }
+  {
+    std::map<std::array<Index, 3>, Index> first_on;
+    for (Index f = 0; f < r.faces; ++f) {
+      std::array<Index, 3> key{F(f, 0), F(f, 1), F(f, 2)};
+      std::sort(key.begin(), key.end());
+      if (!first_on.emplace(key, f).second) r.duplicate_faces.push_back(f);
+    }
   }
 
   // chi = 2 - 2g - b holds per connected orientable surface; isolated vertices
@@ -177,6 +202,18 @@ namespace {
 const char* const kSelectHint = " (Select > Select All by Trait > Non Manifold shows them)";
 
 void require_fans(const MeshReport& r) {
+  // Faces naming a vertex twice and duplicated faces make edges look shared
+  // by three faces; said as what they are, the fix is plain.
+  if (!r.non_manifold_edges.empty() && !r.repeated_vertex_faces.empty())
+    throw DegenerateFaceError(detail::concat(
+        "mesh has ", count_of(r.repeated_vertex_faces.size(), "face", "faces"),
+        " naming one vertex twice: faces ", format_indices(r.repeated_vertex_faces),
+        "; remove them first (Mesh > Clean Up > Degenerate Dissolve)"));
+  if (!r.non_manifold_edges.empty() && !r.duplicate_faces.empty())
+    throw NonManifoldError(detail::concat(
+        "mesh has ", count_of(r.duplicate_faces.size(), "duplicate face", "duplicate faces"),
+        " (on the same three vertices as another face): faces ", format_indices(r.duplicate_faces),
+        "; delete the extra copies (select them, Mesh > Delete > Faces)"));
   if (!r.non_manifold_edges.empty())
     throw NonManifoldError(detail::concat(
         "mesh is not manifold: ", count_of(r.non_manifold_edges.size(), "edge is", "edges are"),

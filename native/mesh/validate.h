@@ -25,13 +25,16 @@ struct MeshReport {
   MatrixX2i non_manifold_edge_vertices;      ///< #non_manifold_edges by 2: their (a < b) vertices
   std::vector<Index> non_manifold_vertices;  ///< vertices whose faces form several fans
   std::vector<Index> degenerate_faces;       ///< repeated indices or area <= tolerance
+  std::vector<Index> repeated_vertex_faces;  ///< faces naming one vertex twice (also degenerate)
+  std::vector<Index> duplicate_faces;        ///< faces on the same three vertices as an earlier face
   std::vector<Index> isolated_vertices;      ///< vertices in no face
   std::vector<Index> inconsistent_orientation_edges;  ///< interior edges used twice in one direction
   MatrixX2i inconsistent_orientation_edge_vertices;   ///< their (a < b) vertices, one row each
   bool is_closed_genus0 = false;
 };
 
-/// Checks raw arrays before any topology is built: shapes, finite coordinates,
+/// Checks raw arrays before any topology is built: shapes, finite coordinates
+/// small and large enough that face areas neither overflow nor underflow,
 /// index range. Throws InvalidInputError naming the first offending entries.
 void validate_arrays(const MatrixX3d& V, const MatrixX3i& F);
 

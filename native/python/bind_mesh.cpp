@@ -36,6 +36,7 @@ std::string repr(const MeshReport& r) {
   add("non_manifold_edges", r.non_manifold_edges.size());
   add("non_manifold_vertices", r.non_manifold_vertices.size());
   add("degenerate_faces", r.degenerate_faces.size());
+  add("duplicate_faces", r.duplicate_faces.size());
   add("isolated_vertices", r.isolated_vertices.size());
   add("inconsistent_orientation_edges", r.inconsistent_orientation_edges.size());
   return s + " is_closed_genus0=" + (r.is_closed_genus0 ? "True" : "False") + ">";
@@ -71,6 +72,12 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly(
           "degenerate_faces", [](const MeshReport& r) { return to_numpy(r.degenerate_faces); },
           "faces with a repeated vertex or (near) zero area")
+      .def_property_readonly(
+          "repeated_vertex_faces", [](const MeshReport& r) { return to_numpy(r.repeated_vertex_faces); },
+          "faces naming one vertex twice (also in degenerate_faces)")
+      .def_property_readonly(
+          "duplicate_faces", [](const MeshReport& r) { return to_numpy(r.duplicate_faces); },
+          "faces on the same three vertices as an earlier face")
       .def_property_readonly(
           "isolated_vertices", [](const MeshReport& r) { return to_numpy(r.isolated_vertices); },
           "vertices in no face")

@@ -350,3 +350,36 @@ def test_open_entry_points_report_orientation_not_closedness():
                  lambda: pm.extract_feature(V, F, np.arange(len(F) // 2))):
         with pytest.raises(pm.NonManifoldError, match="consistently oriented.*Recalculate"):
             call()
+
+
+# --- messages that name the real fault (issue 19) ---------------------------------------------
+
+def test_a_face_naming_a_vertex_twice_is_said_so_not_a_non_manifold_edge():
+    V, F = meshes.icosphere(2)
+    F = F.copy()
+    F[7, 1] = F[7, 0]
+    report = pm.validate(V, F)
+    assert list(report.repeated_vertex_faces) == [7] and 7 in list(report.degenerate_faces)
+    with pytest.raises(pm.DegenerateFaceError, match=r"1 face naming one vertex twice: faces 7;"):
+        pm.require_closed_genus0(V, F)
+
+
+def test_duplicate_faces_are_said_so_not_inconsistent_orientation():
+    V, F = meshes.icosphere(2)
+    for extra in (F[[3, 9]], F[[3]][:, ::-1]):  # the same faces again, or one turned
+        doubled = np.vstack([F, extra])
+        report = pm.validate(V, doubled)
+        assert list(report.duplicate_faces) == list(range(len(F), len(F) + len(extra)))
+        with pytest.raises(pm.NonManifoldError, match="duplicate face"):
+            pm.require_closed_genus0(V, doubled)
+
+
+@pytest.mark.parametrize("scale,word", [(1e200, "overflow"), (1e-200, "round to zero")])
+def test_coordinates_too_large_or_small_for_areas_ask_for_scaling(scale, word):
+    V, F = meshes.icosphere(2)
+    with pytest.raises(pm.InvalidInputError, match=f"would {word} in double precision; scale the mesh"):
+        pm.validate(V * scale, F)
+    with pytest.raises(pm.InvalidInputError, match="scale the mesh"):
+        pm.sphere_map(V * scale, F)
+    # Large and small but sane scales still validate.
+    assert pm.validate(V * 1e12, F).is_closed_genus0 and pm.validate(V * 1e-12, F).is_closed_genus0
