@@ -2,6 +2,8 @@
 // tree over the vertices to prune facets for the distance.
 #include "features/concavity.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cstdint>
@@ -218,6 +220,16 @@ ConvexHull convex_hull(const MatrixX3d& points) {
   hull.origin = 0.5 * (points.colwise().minCoeff() + points.colwise().maxCoeff()).transpose();
   MatrixX3d centred = points.rowwise() - hull.origin.transpose();  // row-major: x0 y0 z0 x1 ...
 
+  // Coincident or flat input: said plainly here, where Qhull would stop
+  // with an internal error (code 5) for points all at one place.
+  PM_REQUIRE(centred.cwiseAbs().maxCoeff() > 0, InvalidInputError, "convex hull: the ", n,
+             " points are all at one place, so their convex hull has no volume; concavity needs a solid mesh");
+  {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spread(centred.transpose() * centred);
+    PM_REQUIRE(spread.eigenvalues()[0] > 1e-24 * spread.eigenvalues()[2], InvalidInputError, "convex hull: the ", n,
+               " points lie in one plane (or on a line), so their convex hull has no volume; concavity needs a "
+               "solid mesh");
+  }
   QuietFile quiet;
   QhullRun run(quiet.get());
   qhT* qh = run.get();       // the name the FORALL macros expect

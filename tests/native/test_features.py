@@ -94,6 +94,15 @@ def test_flat_mesh_error_says_why(capfd):
     assert out == "" and err == "", "Qhull must not print"
 
 
+def test_coincident_or_collinear_points_are_said_so_not_a_qhull_internal_error():
+    V, F = meshes.icosphere(1)
+    with pytest.raises(pm.InvalidInputError, match="all at one place"):
+        pm.concavity(np.zeros_like(V), F)  # was "Qhull could not build the hull (internal error, code 5)"
+    line = np.outer(np.arange(len(V), dtype=float), [1.0, 2.0, 3.0])
+    with pytest.raises(pm.InvalidInputError, match=r"one plane \(or on a line\)"):
+        pm.concavity(line, F)
+
+
 # --- shape signature ------------------------------------------------------------------
 
 def test_signature_is_a_normalised_histogram_of_the_requested_size():
