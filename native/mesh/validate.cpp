@@ -193,6 +193,7 @@ MeshReport validate(const TriMesh& mesh, double relative_area_tolerance) {
   }
   r.is_closed_genus0 = manifold && r.components == 1 && isolated == 0 && r.boundary_loops == 0 &&
                        r.boundary_edges == 0 && r.genus == 0 && r.degenerate_faces.empty() &&
+                       r.duplicate_faces.empty() &&
                        r.inconsistent_orientation_edges.empty();
   return r;
 }
@@ -247,6 +248,14 @@ void require_manifold(const MeshReport& r) {
 
 void require_closed_genus0(const MeshReport& r) {
   require_fans(r);
+  // Duplicates that share no edge with a third face: two faces on the same
+  // three vertices closing on each other (a "pillow"), which passes every
+  // count above but encloses nothing; no sphere map can start from it.
+  if (!r.duplicate_faces.empty())
+    throw NonManifoldError(detail::concat(
+        "mesh has ", count_of(r.duplicate_faces.size(), "duplicate face", "duplicate faces"),
+        " (on the same three vertices as another face, closing on it and enclosing nothing): faces ",
+        format_indices(r.duplicate_faces), "; delete the extra copies (select them, Mesh > Delete > Faces)"));
   if (!r.degenerate_faces.empty())
     throw DegenerateFaceError(detail::concat(
         "mesh has ", count_of(r.degenerate_faces.size(), "degenerate face", "degenerate faces"),

@@ -383,3 +383,17 @@ def test_coordinates_too_large_or_small_for_areas_ask_for_scaling(scale, word):
         pm.sphere_map(V * scale, F)
     # Large and small but sane scales still validate.
     assert pm.validate(V * 1e12, F).is_closed_genus0 and pm.validate(V * 1e-12, F).is_closed_genus0
+
+
+def test_a_pillow_of_two_faces_is_refused_at_once_not_after_relaxation_sweeps():
+    # Two faces on the same three vertices pass every count (closed, chi = 2)
+    # but enclose nothing: sphere_map spent its relaxation sweeps and raised
+    # ComputeError. Also as a separate piece glued to nothing else.
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    F = np.array([[0, 1, 2], [0, 2, 1]], np.int32)
+    report = pm.validate(V, F)
+    assert list(report.duplicate_faces) == [1] and not report.is_closed_genus0
+    with pytest.raises(pm.NonManifoldError, match="1 duplicate face .*enclosing nothing"):
+        pm.require_closed_genus0(V, F)
+    with pytest.raises(pm.NonManifoldError, match="duplicate face"):
+        pm.sphere_map(V, F)
