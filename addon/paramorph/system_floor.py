@@ -8,6 +8,7 @@ library it loads with; a system below it gets a traceback-like
 artist. No bpy here: the message is built before anything else loads."""
 import os
 import re
+import sys
 
 WHEEL_POLICY = "manylinux_2_34_x86_64"
 GLIBC_FLOOR = (2, 34)
@@ -32,7 +33,7 @@ def explain_load_failure(error_text, glibc=None, python=None):
     """A plain sentence for a failure the user can act on, or "" when the
     error is none of those. glibc/python default to the running ones."""
     glibc = system_glibc() if glibc is None else glibc
-    python = tuple(__import__("sys").version_info[:2]) if python is None else python
+    python = tuple(sys.version_info[:2]) if python is None else python
     wanted = [tuple(int(x) for x in found) for found in re.findall(r"GLIBC_(\d+)\.(\d+)", error_text)]
     if wanted or (glibc is not None and glibc < GLIBC_FLOOR):
         need = max(wanted + [GLIBC_FLOOR])

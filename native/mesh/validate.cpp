@@ -202,6 +202,14 @@ namespace {
 
 const char* const kSelectHint = " (Select > Select All by Trait > Non Manifold shows them)";
 
+void require_no_duplicate_faces(const MeshReport& r) {
+  if (!r.duplicate_faces.empty())
+    throw NonManifoldError(detail::concat(
+        "mesh has ", count_of(r.duplicate_faces.size(), "duplicate face", "duplicate faces"),
+        " (on the same three vertices as another face, enclosing nothing with it): faces ",
+        format_indices(r.duplicate_faces), "; delete the extra copies (select them, Mesh > Delete > Faces)"));
+}
+
 void require_fans(const MeshReport& r) {
   // Faces naming a vertex twice and duplicated faces make edges look shared
   // by three faces; said as what they are, the fix is plain.
@@ -210,11 +218,7 @@ void require_fans(const MeshReport& r) {
         "mesh has ", count_of(r.repeated_vertex_faces.size(), "face", "faces"),
         " naming one vertex twice: faces ", format_indices(r.repeated_vertex_faces),
         "; remove them first (Mesh > Clean Up > Degenerate Dissolve)"));
-  if (!r.non_manifold_edges.empty() && !r.duplicate_faces.empty())
-    throw NonManifoldError(detail::concat(
-        "mesh has ", count_of(r.duplicate_faces.size(), "duplicate face", "duplicate faces"),
-        " (on the same three vertices as another face): faces ", format_indices(r.duplicate_faces),
-        "; delete the extra copies (select them, Mesh > Delete > Faces)"));
+  if (!r.non_manifold_edges.empty()) require_no_duplicate_faces(r);
   if (!r.non_manifold_edges.empty())
     throw NonManifoldError(detail::concat(
         "mesh is not manifold: ", count_of(r.non_manifold_edges.size(), "edge is", "edges are"),
@@ -248,14 +252,10 @@ void require_manifold(const MeshReport& r) {
 
 void require_closed_genus0(const MeshReport& r) {
   require_fans(r);
-  // Duplicates that share no edge with a third face: two faces on the same
-  // three vertices closing on each other (a "pillow"), which passes every
-  // count above but encloses nothing; no sphere map can start from it.
-  if (!r.duplicate_faces.empty())
-    throw NonManifoldError(detail::concat(
-        "mesh has ", count_of(r.duplicate_faces.size(), "duplicate face", "duplicate faces"),
-        " (on the same three vertices as another face, closing on it and enclosing nothing): faces ",
-        format_indices(r.duplicate_faces), "; delete the extra copies (select them, Mesh > Delete > Faces)"));
+  // Also duplicates that share no edge with a third face: two faces on the
+  // same three vertices closing on each other (a "pillow") pass every count
+  // but enclose nothing; no sphere map can start from them.
+  require_no_duplicate_faces(r);
   if (!r.degenerate_faces.empty())
     throw DegenerateFaceError(detail::concat(
         "mesh has ", count_of(r.degenerate_faces.size(), "degenerate face", "degenerate faces"),

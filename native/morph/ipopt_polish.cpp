@@ -13,9 +13,6 @@ namespace paramorph::morph {
 
 namespace {
 
-/// Triple products of unit vectors above -kRoundoff are not folds (rounding).
-constexpr double kRoundoff = 1e-13;
-
 using Ipopt::Index;  // NOLINT: Ipopt's own integer type in the adapter below
 using Ipopt::Number;
 
@@ -124,7 +121,7 @@ class SphereMapTnlp : public Ipopt::TNLP {
   bool cancelled() const { return cancelled_; }
 
  private:
-  bool fold_free(const Number* x) const { return nlp_.min_triple(x) > -kRoundoff; }
+  bool fold_free(const Number* x) const { return nlp_.min_triple(x) > -kTripleRoundoff; }
 
   const SphereMapNlp& nlp_;
   const MatrixX3d& start_;

@@ -19,12 +19,10 @@ namespace paramorph::morph {
 
 namespace {
 
-/// Triple products of unit vectors above -kRoundoff are not folds (rounding).
-constexpr double kRoundoff = 1e-13;
 /// Decades of mu the barrier path descends when it is the whole solve (no
 /// Ipopt). The path's point is within about mu x #F of the optimum in the
 /// objective (each face's log term), so 8 decades from mu ~ the mean triple
-/// product leave a gap ~1e-7 of #V; see tests/bench/optimize_solvers.py.
+/// product leave a gap ~1e-7 of #V; tests/bench/morph.py measures it against Ipopt.
 constexpr double kBarrierOnlyDecades = 8.0;
 
 }  // namespace
@@ -69,7 +67,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // the order of rounding (1e-17); those count as degenerate, not folded.
   std::vector<paramorph::Index> folded;
   for (paramorph::Index f = 0; f < F.rows(); ++f)
-    if (!(start_det[f] > -kRoundoff)) folded.push_back(f);
+    if (!(start_det[f] > -kTripleRoundoff)) folded.push_back(f);
   PM_REQUIRE(folded.empty(), InvalidInputError, "the start map folds ", folded.size(),
              " faces (", format_indices(folded), "): give a fold-free sphere map");
 
@@ -100,7 +98,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // start with degenerate faces begins infeasible there and the solvers open them.
   const double mean_det = start_det.mean();
   result.epsilon = o.epsilon * mean_det;
-  if (start_det.minCoeff() > kRoundoff) result.epsilon = std::min(result.epsilon, 0.5 * start_det.minCoeff());
+  if (start_det.minCoeff() > kTripleRoundoff) result.epsilon = std::min(result.epsilon, 0.5 * start_det.minCoeff());
   SphereMapNlp nlp(mesh, pull);
   result.start_objective = -nlp.objective(start.data());
   if (progress) progress->report(0.0, "optimize sphere map");
@@ -150,17 +148,15 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
     }
   }
 
-  result.positions = start;
-  if (!use_ipopt) {
-    // The barrier's end (above) is the result.
-  } else if (warm && !barrier.centred) {
+  result.positions = start;  // without Ipopt, the barrier's end is the result
+  if (use_ipopt && warm && !barrier.centred) {
     // The path's last round stopped at its step cap, away from the centre:
     // Ipopt did not finish from such points within polish_iterations
     // (tentacle_sphere 0.9k-62.7k faces, the closed bunny: every run ended
     // Maximum_Iterations_Exceeded and took about as long as the barrier).
     // The barrier's point stands: every face above epsilon.
     result.status = "Barrier_Point";
-  } else {
+  } else if (use_ipopt) {
     // From the barrier's path (every face above epsilon) Ipopt only polishes.
     const bool polish = warm;
     IpoptPolishOptions ipopt;
@@ -190,7 +186,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
       // tolerance (a 51k-face Suzanne: 0.38 epsilon after 15 iterations).
       const bool no_worse = !polish || (nlp.objective(solved.data()) <= nlp.objective(start.data()) &&
                                         solved_det.minCoeff() >= 0.9 * result.epsilon);
-      if (solved_det.minCoeff() > -kRoundoff &&
+      if (solved_det.minCoeff() > -kTripleRoundoff &&
           at_or_below_zero(solved_det) <= at_or_below_zero(face_triple_products(start, F)) && no_worse)
         result.positions = solved;
     }

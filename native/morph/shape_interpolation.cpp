@@ -429,10 +429,9 @@ Eigen::Vector3d ShapeInterpolation::wanted_side(Index f, double t, const Sides& 
 
 Index ShapeInterpolation::mirror_apexes(double t, const Sides& sides, MatrixX3d& X) const {
   const std::vector<Index> turned = turned_over(X, sides);
-  auto is_turned = [&](Index f) { return !face_degenerate_[f] && sides.against_both(f, face_normal(X, F_, f)); };
   Index fixed = 0;
   for (const Index f : turned) {
-    if (!is_turned(f)) continue;  // mended by an earlier move
+    if (!is_turned(f, X, sides)) continue;  // mended by an earlier move
     const Eigen::Vector3d reference = wanted_side(f, t, sides);
     if (!(reference.norm() > 0)) continue;
     // The corner nearest its opposite side (the apex of a thin piece), mirrored
@@ -503,22 +502,20 @@ MatrixX3d ShapeInterpolation::fit(double t) const {
   return X;
 }
 
+bool ShapeInterpolation::is_turned(Index f, const MatrixX3d& X, const Sides& sides) const {
+  return !face_degenerate_[f] && sides.against_both(f, face_normal(X, F_, f));
+}
+
 Index ShapeInterpolation::turned_around(Index v, const MatrixX3d& X, const Sides& sides) const {
   Index count = 0;
-  for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) {
-    const Index f = vertex_faces_[p];
-    count += !face_degenerate_[f] && sides.against_both(f, face_normal(X, F_, f));
-  }
+  for (Index p = vertex_face_start_[v]; p < vertex_face_start_[v + 1]; ++p) count += is_turned(vertex_faces_[p], X, sides);
   return count;
 }
 
 std::vector<Index> ShapeInterpolation::turned_over(const MatrixX3d& X, const Sides& sides) const {
   std::vector<Index> out;
-  for (Index f = 0; f < Index(F_.rows()); ++f) {
-    if (face_degenerate_[f]) continue;
-    const Eigen::Vector3d n = face_normal(X, F_, f);
-    if (sides.against_both(f, n)) out.push_back(f);
-  }
+  for (Index f = 0; f < Index(F_.rows()); ++f)
+    if (is_turned(f, X, sides)) out.push_back(f);
   return out;
 }
 

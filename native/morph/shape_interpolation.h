@@ -118,6 +118,8 @@ class ShapeInterpolation {
   /// others around the moved vertices together. Returns the faces still
   /// turned over.
   Index repair(double t, int rings, const Sides& sides, MatrixX3d& X) const;
+  /// Face f of X is turned over at t (a degenerate face never is).
+  bool is_turned(Index f, const MatrixX3d& X, const Sides& sides) const;
   std::vector<Index> turned_over(const MatrixX3d& X, const Sides& sides) const;
   /// Faces around vertex v turned over in X.
   Index turned_around(Index v, const MatrixX3d& X, const Sides& sides) const;

@@ -19,6 +19,10 @@
 
 namespace paramorph::morph {
 
+/// Triple products of unit vectors above -kTripleRoundoff are not folds
+/// (rounding), for optimize_sphere_map and its Ipopt polish alike.
+constexpr double kTripleRoundoff = 1e-13;
+
 class SphereMapNlp {
  public:
   /// mesh: the triangulation; target: #V by 3 v_i^0.
