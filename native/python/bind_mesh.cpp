@@ -1,12 +1,17 @@
 // validate() and require_closed_genus0() (mesh/validate.h): numpy in, a
-// read-only MeshReport or a typed MeshError out; simplify() (mesh/simplify.h).
+// read-only MeshReport or a typed MeshError out; simplify() (mesh/simplify.h);
+// repair() (mesh/repair.h).
 #include <cmath>
 #include <string>
 
+#include "mesh/repair.h"
 #include "mesh/simplify.h"
 #include "mesh/validate.h"
+#include <pybind11/stl.h>
+
 #include "python/arrays.h"
 #include "python/bindings.h"
+#include "python/progress.h"
 
 namespace paramorph::python {
 
@@ -140,6 +145,81 @@ edges (as vertex pairs) or faces to fix.)doc");
       R"doc(A coarser copy with the same topology (CGAL edge collapse, Lindstrom-Turk):
 returns (V, F, proxy_of), proxy_of[i] the proxy vertex input vertex i was
 collapsed into. The input must be a closed, manifold, oriented mesh.)doc");
+
+  py::class_<RepairReport>(m, "RepairReport", "Every change repair() made, counted on the input.")
+      .def_readonly("welded_vertices", &RepairReport::welded_vertices)
+      .def_readonly("degenerate_faces_removed", &RepairReport::degenerate_faces_removed)
+      .def_readonly("duplicate_faces_removed", &RepairReport::duplicate_faces_removed)
+      .def_readonly("isolated_vertices_removed", &RepairReport::isolated_vertices_removed)
+      .def_readonly("faces_reversed", &RepairReport::faces_reversed,
+                    "faces turned to agree with their neighbours")
+      .def_readonly("parts_turned_outward", &RepairReport::parts_turned_outward)
+      .def_readonly("non_manifold_vertices_split", &RepairReport::non_manifold_vertices_split)
+      .def_readonly("non_manifold_edges", &RepairReport::non_manifold_edges)
+      .def_readonly("holes_filled", &RepairReport::holes_filled)
+      .def_readonly("holes_not_filled", &RepairReport::holes_not_filled)
+      .def_readonly("single_faces_left_open", &RepairReport::single_faces_left_open)
+      .def_readonly("fill_faces_added", &RepairReport::fill_faces_added)
+      .def_readonly("fill_vertices_added", &RepairReport::fill_vertices_added)
+      .def_readonly("fairing_failed", &RepairReport::fairing_failed)
+      .def_readonly("components", &RepairReport::components, "parts in the result")
+      .def_readonly("components_removed", &RepairReport::components_removed)
+      .def_readonly("faces_removed_with_components", &RepairReport::faces_removed_with_components)
+      .def_property_readonly("changes", &RepairReport::changes,
+                             "one plain-word sentence per kind of change; empty when nothing changed")
+      .def_property_readonly("changed", &RepairReport::changed)
+      .def("__repr__", [](const RepairReport& r) {
+        std::string s = "<RepairReport";
+        for (const auto& change : r.changes()) s += "; " + change;
+        return s + (r.changed() ? ">" : " nothing changed>");
+      });
+  py::class_<RepairResult>(m, "RepairResult", "repair()'s mesh, its map back to the input and the report.")
+      .def_property_readonly("V", [](const RepairResult& r) { return to_numpy(r.V); })
+      .def_property_readonly("F", [](const RepairResult& r) { return to_numpy(r.F); })
+      .def_property_readonly("vertex_source", [](const RepairResult& r) { return to_numpy(r.vertex_source); },
+                             "(n,) int32: the input vertex of each vertex, -1 for a vertex a hole fill added")
+      .def_property_readonly("face_source", [](const RepairResult& r) { return to_numpy(r.face_source); },
+                             "(m,) int32: the input face of each face, -1 for a face a hole fill added")
+      .def_property_readonly(
+          "input_vertex_target", [](const RepairResult& r) { return to_numpy(r.input_vertex_target); },
+          "(n_in,) int32: the vertex each input vertex became, -1 when it was dropped\n"
+          "(loose, only in removed faces, or in a removed part)")
+      .def_readonly("report", &RepairResult::report);
+  m.def(
+      "repair",
+      [](const py::object& V, const py::object& F, double weld_tolerance, bool fill_holes, bool orient_outward,
+         bool keep_largest_component, py::object progress) {
+        const MatrixX3d v = to_vertices(V, "V");
+        const MatrixX3i f = to_faces(F, "F");
+        RepairOptions options;
+        options.weld_tolerance = weld_tolerance;
+        options.fill_holes = fill_holes;
+        options.orient_outward = orient_outward;
+        options.keep_largest_component = keep_largest_component;
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] { return repair(v, f, options, bridge.get()); });
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("weld_tolerance") = 1e-6, py::arg("fill_holes") = true,
+      py::arg("orient_outward") = true, py::arg("keep_largest_component") = false,
+      py::arg("progress") = py::none(),
+      R"doc(Repairs a messy triangle mesh into a manifold, consistently oriented one.
+
+In order: welds vertices closer than weld_tolerance times the bounding-box
+diagonal (0: exact duplicates only; unwelded UV/normal seams), drops faces
+with a repeated corner and duplicate faces, orients every part consistently
+and cuts non-manifold vertices and edges apart (CGAL orient_polygon_soup),
+removes zero-area faces (CGAL), fills every hole with a refined and faired
+patch (CGAL, Liepa) when fill_holes, keeps only the part with the largest
+area when keep_largest_component, and turns every part enclosing a negative
+volume outward when orient_outward. Kept vertices keep their positions.
+
+Returns a RepairResult: V, F, vertex_source (input vertex per vertex, -1 for
+fill vertices), face_source (input face per face, -1 for fill faces),
+input_vertex_target (output vertex per input vertex, -1 when dropped) and
+report (counts, and report.changes: one plain sentence per kind of change).
+Handles (genus > 0) are not removed: validate() the result for that.
+Raises InvalidInputError for malformed arrays, a bad weld_tolerance or a
+mesh whose faces are all degenerate.)doc");
 }
 
 }  // namespace paramorph::python
