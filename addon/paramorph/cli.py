@@ -449,14 +449,35 @@ def save(path, objects, command):
     raise CliError(f"this Blender has no {ext} exporter")
 
 
+def unreadable_blend(label, path, error):
+    """The message for a .blend that Blender cannot open (`error` its OSError)."""
+    detail = " ".join(str(error).split())
+    detail = detail[len("Error: "):] if detail.startswith("Error: ") else detail
+    if not detail or "failed to open blend file" in detail:  # all 'load:' says: not a .blend at all
+        return f"{label}: {path} is not a .blend file"
+    return f"{label}: {path} cannot be read: {detail}"
+
+
+def check_input(label, path):
+    """An input file exists (CliError naming it, after `label` when given, otherwise)."""
+    named = f"{label}: {path}" if label else path
+    if os.path.isdir(path):
+        raise CliError(f"{named} is a folder, not a file")
+    if not os.path.isfile(path):
+        raise CliError(f"{named}: no such file")
+
+
 def _added_mesh_object(path, wanted, label):
     """Adds the mesh objects of a .blend (appended; only `wanted` when given) or of
     a mesh file (imported) to the scene; returns the one (or the one named `wanted`)."""
     ext = os.path.splitext(path)[1].lower()
     if ext == ".blend":
-        with bpy.data.libraries.load(path, link=False) as (data_from, data_to):
-            names = list(data_from.objects)
-            data_to.objects = [wanted] if wanted in names else ([] if wanted else names)
+        try:
+            with bpy.data.libraries.load(path, link=False) as (data_from, data_to):
+                names = list(data_from.objects)
+                data_to.objects = [wanted] if wanted in names else ([] if wanted else names)
+        except OSError as error:  # not a .blend, or a damaged one
+            raise CliError(unreadable_blend(label, path, error)) from None
         added = [o for o in data_to.objects if o is not None]
         for obj in added:
             bpy.context.scene.collection.objects.link(obj)
@@ -488,8 +509,7 @@ def start_two_file_command(args, source_label, target_label):
     """For morph and paste: both input files exist (else CliError naming the
     missing one), then an empty scene with the add-on enabled."""
     for label, path in ((source_label, args.source), (target_label, args.target)):
-        if not os.path.isfile(path):
-            raise CliError(f"{label}: {path}: no such file")
+        check_input(label, path)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return enable_addon(args.backend)
 
@@ -628,8 +648,7 @@ def main(argv):
         return paste_main(args)
     name = f"paramorph {args.command}"
     try:
-        if not os.path.isfile(args.input):
-            raise CliError(f"{args.input}: no such file")
+        check_input(None, args.input)
         load(os.path.abspath(args.input))
         enable_addon(args.backend)
         check_options(args)

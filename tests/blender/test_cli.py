@@ -379,3 +379,62 @@ def test_paste_errors_exit_1_and_usage_errors_exit_2(cli, tmp_path):
         assert proc.returncode == 2, (bad, output(proc))
         assert "usage:" in proc.stderr, (bad, output(proc))
     assert not out.exists()
+
+
+# --- OUT and IN paths: checked before any work, refused in plain words ---------
+
+def snapshot(folder):
+    """Every path under `folder`, with the bytes of each file (None for a folder)."""
+    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else None
+            for p in sorted(folder.rglob("*"))}
+
+
+def refused(proc, code, message):
+    """Exit status `code`, `message` on stderr, no traceback, nothing written."""
+    assert proc.returncode == code, output(proc)
+    assert message in proc.stderr, output(proc)
+    assert "Traceback" not in proc.stderr and "wrote" not in proc.stdout, output(proc)
+    if code == 2:
+        assert "usage: " in proc.stderr, output(proc)
+
+
+def blob_files(tmp_path):
+    """A folder "files" with the blob as blob.blend and blob.obj; returns the folder."""
+    files = tmp_path / "files"
+    files.mkdir()
+    make_samples.build_blob(subdivisions=1)
+    save_blend(files / "blob.blend")
+    export(files / "blob.obj")
+    return files
+
+
+def test_bad_blend_inputs_fail_in_plain_words(cli, tmp_path):
+    files = blob_files(tmp_path)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    (files / "x.blend").write_text("this is not a blend file\n")
+    (files / "broken.blend").write_bytes(blend.read_bytes()[:2000])  # cut short
+    (files / "folder.blend").mkdir()
+    before = snapshot(files)
+    out = tmp_path / "out.blend"
+    ball = ["--select-ball", "0,0,0,1", "--at", "0,0,1"]
+    cases = {"x.blend": "is not a .blend file", "broken.blend": "cannot be read: ",
+             "missing.blend": ": no such file", "folder.blend": "is a folder, not a file"}
+    for name, message in cases.items():
+        bad = files / name
+        for args, label in ((["sphere", bad, out], None),
+                            (["morph", obj, bad, "-o", out], "B"),
+                            (["paste", bad, obj, out, *ball], "SOURCE")):
+            proc = run_cli(cli, tmp_path, *args)
+            assert proc.returncode == 1, output(proc)
+            assert "Traceback" not in proc.stderr and "wrote" not in proc.stdout, output(proc)
+            error = [line for line in proc.stderr.splitlines() if line.startswith(f"paramorph {args[0]}: error: ")]
+            assert len(error) == 1 and name in error[0], output(proc)
+            if label is not None:  # morph and paste say which input, and what is wrong with it
+                assert f"error: {label}: " in error[0] and message in error[0], output(proc)
+    proc = run_cli(cli, tmp_path, "morph", files / "x.blend", obj, "-o", out)
+    refused(proc, 1, f"paramorph morph: error: A: {files / 'x.blend'} is not a .blend file")
+    proc = run_cli(cli, tmp_path, "paste", blend, files / "broken.blend", out, *ball)
+    refused(proc, 1, f"paramorph paste: error: TARGET: {files / 'broken.blend'} cannot be read: ")
+    assert snapshot(files) == before and not out.exists()
+
+
