@@ -54,6 +54,7 @@ import argparse
 import math
 import os
 import sys
+import tempfile
 import traceback
 
 import bpy
@@ -218,6 +219,7 @@ def parse_args(argv):
     for label, path, allowed in files:
         if os.path.splitext(path)[1].lower() not in allowed:
             parser.error(f"{label} must end in {', '.join(allowed)}, not {path!r}")
+    check_output_name(parser, files)
     if args.command == "segment":
         only = {"extremities": ("threshold",),
                 "features": ("normal_angle", "concavity_threshold", "spacing")}
@@ -233,6 +235,31 @@ def parse_args(argv):
         parser.error("--select-ball needs a radius above 0")
     args.parser = parser
     return args
+
+
+def same_file(a, b):
+    """Whether paths `a` and `b` name one file (however spelled: relative,
+    through a symbolic link, or a hard link to it)."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist
+        return False
+
+
+def check_output_name(parser, files):
+    """Usage errors before any work: OUT (the last of `files`) is an existing
+    folder or other non-file, or is one of the input files (which the command
+    would overwrite)."""
+    label, out, _ = files[-1]
+    if os.path.exists(out) and not os.path.isfile(out):
+        kind = "a folder" if os.path.isdir(out) else "not a regular file"
+        parser.error(f"{label} {out!r} is {kind}: name the file to write")
+    for name, path, _ in files[:-1]:
+        if same_file(path, out):
+            parser.error(f"{label} {out!r} is the same file as {name}: write the result to another "
+                         f"file ({name} is never overwritten)")
 
 
 def check_pins(parser, pins):
@@ -424,6 +451,23 @@ def check_options(args):
     check_ranges(args.parser, op, options, FLAGS)
 
 
+def check_writable(path):
+    """Before any work: OUT's folder, or the nearest existing folder above it
+    (save creates the missing ones), takes a new file; CliError otherwise. The
+    probe is an unnamed temporary file: nothing is left behind."""
+    existing = os.path.dirname(os.path.abspath(path))
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise CliError(f"cannot write {path}: {existing} is a file, not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as error:
+        raise CliError(f"cannot write {path}: the folder {existing} takes no new file "
+                       f"({error.strerror or error})") from None
+
+
 def save(path, objects, command):
     ext = os.path.splitext(path)[1].lower()
     folder = os.path.dirname(path)
@@ -507,9 +551,10 @@ def _added_mesh_object(path, wanted, label):
 
 def start_two_file_command(args, source_label, target_label):
     """For morph and paste: both input files exist (else CliError naming the
-    missing one), then an empty scene with the add-on enabled."""
+    missing one) and OUT can be written, then an empty scene with the add-on enabled."""
     for label, path in ((source_label, args.source), (target_label, args.target)):
         check_input(label, path)
+    check_writable(args.output)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return enable_addon(args.backend)
 
@@ -649,6 +694,7 @@ def main(argv):
     name = f"paramorph {args.command}"
     try:
         check_input(None, args.input)
+        check_writable(args.output)
         load(os.path.abspath(args.input))
         enable_addon(args.backend)
         check_options(args)

@@ -408,6 +408,67 @@ def blob_files(tmp_path):
     return files
 
 
+@pytest.mark.parametrize("ext", [".obj", ".ply", ".blend"])
+def test_output_in_a_place_that_takes_no_file_fails_before_any_work(cli, tmp_path, ext):
+    files = blob_files(tmp_path)
+    notes = files / "notes.txt"
+    notes.write_text("a file, not a folder\n")
+    before = snapshot(files)
+    for out in (notes / f"blob{ext}", notes / "sub" / f"blob{ext}"):
+        proc = run_cli(cli, tmp_path, "sphere", files / "blob.blend", out)
+        refused(proc, 1, f"paramorph sphere: error: cannot write {out}: {notes} is a file, not a folder")
+        assert "Blob:" not in proc.stdout, output(proc)  # before the sphere map
+    if os.path.isdir("/proc"):  # a folder that takes no new file, even for root
+        out = f"/proc/paramorph-test{ext}"
+        proc = run_cli(cli, tmp_path, "sphere", files / "blob.blend", out)
+        refused(proc, 1, f"paramorph sphere: error: cannot write {out}: the folder /proc takes no new file")
+        assert "Blob:" not in proc.stdout, output(proc)
+    out = notes / f"blob{ext}"
+    if ext == ".blend":
+        proc = run_cli(cli, tmp_path, "morph", files / "blob.obj", files / "blob.blend", "-o", out)
+        refused(proc, 1, f"paramorph morph: error: cannot write {out}: {notes} is a file, not a folder")
+    proc = run_cli(cli, tmp_path, "paste", files / "blob.blend", files / "blob.obj", out,
+                   "--select-ball", "0,0,0,1", "--at", "0,0,1")
+    refused(proc, 1, f"paramorph paste: error: cannot write {out}: {notes} is a file, not a folder")
+    assert snapshot(files) == before
+
+
+def test_output_that_is_an_input_is_a_usage_error(cli, tmp_path):
+    files = blob_files(tmp_path)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    os.symlink(blend, files / "link.blend")
+    os.link(obj, files / "hard.obj")
+    before = snapshot(files)
+    ball = ["--select-ball", "0,0,0,1", "--at", "0,0,1"]
+    for args, label in ((["sphere", os.path.relpath(blend), f"{files}/./blob.blend"], "IN"),
+                        (["unwrap", files / "link.blend", blend], "IN"),                # a symbolic link
+                        (["segment", obj, files / "hard.obj"], "IN"),                   # a hard link
+                        (["sphere", obj, f"{files}/../files/blob.obj"], "IN"),
+                        (["morph", obj, blend, "-o", files / "link.blend"], "B"),
+                        (["morph", blend, obj, "-o", blend], "A"),
+                        (["paste", blend, obj, f"{files}/./blob.blend", *ball], "SOURCE"),
+                        (["paste", blend, obj, files / "hard.obj", *ball], "TARGET")):
+        proc = run_cli(cli, tmp_path, *args)
+        refused(proc, 2, f"is the same file as {label}: write the result to another file")
+    assert snapshot(files) == before  # no input overwritten, no .blend1 backup
+
+
+def test_output_that_is_a_folder_is_a_usage_error(cli, tmp_path):
+    files = blob_files(tmp_path)
+    for name in ("out.blend", "out.obj", "out.ply"):
+        (files / name).mkdir()
+        (files / name / "keep.txt").write_text("a file in a folder named like an output\n")
+    before = snapshot(files)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    for args in (["sphere", blend, files / "out.blend"],
+                 ["unwrap", obj, files / "out.obj"],
+                 ["morph", obj, blend, "-o", files / "out.blend"],
+                 ["paste", blend, obj, files / "out.ply", "--select-ball", "0,0,0,1", "--at", "0,0,1"]):
+        proc = run_cli(cli, tmp_path, *args)
+        refused(proc, 2, f"OUT '{args[-1] if args[0] != 'paste' else args[3]}' is a folder: name the file to write")
+    assert snapshot(files) == before  # the folders not renamed to *.blend1, nothing written in them
+
+
 def test_bad_blend_inputs_fail_in_plain_words(cli, tmp_path):
     files = blob_files(tmp_path)
     blend, obj = files / "blob.blend", files / "blob.obj"
