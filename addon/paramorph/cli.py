@@ -299,6 +299,8 @@ def call_operator(op, **options):
     except RuntimeError as error:
         lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
         lines = [line[len("Error: "):] if line.startswith("Error: ") else line for line in lines]
+        if lines and lines[0].startswith("Python: Traceback"):  # a Python operator's exception:
+            lines = [line for line in lines if not line.startswith("Location:")][-1:]  # its last line
         raise CliError("; ".join(lines) or f"{op.idname_py()} failed") from None
     if "FINISHED" not in status:
         raise CliError(f"{op.idname_py()} did not finish ({', '.join(sorted(status))})")
@@ -468,13 +470,28 @@ def check_writable(path):
                        f"({error.strerror or error})") from None
 
 
+def check_written(written, path):
+    """`written` is a file and not empty (Blender's exporters may fail by
+    only printing a message); CliError naming OUT (`path`) otherwise."""
+    size = os.path.getsize(written) if os.path.isfile(written) else None
+    if not size:
+        what = "nothing" if size is None else "an empty file"
+        raise CliError(f"cannot write {path}: Blender wrote {what} (see its messages above)")
+
+
 def save(path, objects, command):
+    """Writes OUT; CliError (and OUT as it was) when that fails. .obj and .ply
+    are exported to a temporary file beside OUT, checked, then renamed to it."""
     ext = os.path.splitext(path)[1].lower()
     folder = os.path.dirname(path)
-    if folder:
+    try:
         os.makedirs(folder, exist_ok=True)
+    except OSError as error:
+        raise CliError(f"cannot write {path}: cannot create the folder {folder}: "
+                       f"{error.strerror or error}") from None
     if ext == ".blend":
-        bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+        call_operator(bpy.ops.wm.save_as_mainfile, filepath=path, check_existing=False)
+        check_written(path, path)
         return
     activate(objects[0], objects)
     if command == "sphere":  # the exporters write the active UV layer
@@ -483,14 +500,25 @@ def save(path, objects, command):
     for module, name in EXPORTERS[ext]:
         op = find_operator(module, name)
         if op is not None:
-            call_operator(op, **operator_options(
-                op, filepath=path, check_existing=False,
-                export_selected_objects=True, use_selection=True,   # 4.x / 3.4 names
-                export_uv=True, use_uv_coords=True,
-                export_colors="SRGB" if name == "ply_export" else True, use_colors=True,
-                export_materials=False))
-            return
-    raise CliError(f"this Blender has no {ext} exporter")
+            break
+    else:
+        raise CliError(f"this Blender has no {ext} exporter")
+    stem = os.path.splitext(os.path.basename(path))[0]
+    partial = os.path.join(folder, f".{stem}.paramorph-{os.getpid()}{ext}")  # hidden, this run's own
+    try:
+        call_operator(op, **operator_options(
+            op, filepath=partial, check_existing=False,
+            export_selected_objects=True, use_selection=True,   # 4.x / 3.4 names
+            export_uv=True, use_uv_coords=True,
+            export_colors="SRGB" if name == "ply_export" else True, use_colors=True,
+            export_materials=False))
+        check_written(partial, path)
+        os.replace(partial, path)
+    except OSError as error:
+        raise CliError(f"cannot write {path}: {error.strerror or error}") from None
+    finally:
+        if os.path.lexists(partial):
+            os.remove(partial)
 
 
 def unreadable_blend(label, path, error):
@@ -588,9 +616,7 @@ def morph_main(args):
         for note in summary["notes"]:
             print(f"{name}: {note}", flush=True)
         out = os.path.abspath(args.output)
-        if os.path.dirname(out):
-            os.makedirs(os.path.dirname(out), exist_ok=True)
-        bpy.ops.wm.save_as_mainfile(filepath=out, check_existing=False)
+        save(out, None, "morph")
     except CliError as error:
         print(f"{name}: error: {error}", file=sys.stderr, flush=True)
         return 1

@@ -15,6 +15,7 @@ import pytest
 import blender_subprocess
 import make_samples
 from paramorph import bridge, uv_patch
+from paramorph import cli as paramorph_cli
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
@@ -124,6 +125,7 @@ def test_sphere_obj_out_carries_the_sphere_uvs(cli, tmp_path):
     for out in (as_blend, as_obj):
         proc = run_cli(cli, tmp_path, "sphere", src, out, "--no-shape-key", "--backend", "cpu")
         assert proc.returncode == 0, output(proc)
+    assert not list(tmp_path.glob(".*paramorph-*"))  # the .obj was written through a temporary file
     assert "UV layer 'Sphere' (" in proc.stdout  # no shape key in the summary
 
     open_output(as_blend)
@@ -499,3 +501,24 @@ def test_bad_blend_inputs_fail_in_plain_words(cli, tmp_path):
     assert snapshot(files) == before and not out.exists()
 
 
+def test_an_exporter_that_writes_nothing_is_an_error_and_out_stays(tmp_path, monkeypatch):
+    """Blender's exporters may fail by only printing (3.4's OBJ exporter on a
+    path it cannot open): save() checks what was written."""
+    obj = make_samples.build_blob(subdivisions=1)
+    out = tmp_path / "blob.obj"
+    out.write_text("the previous result\n")
+    # An operator that finishes and writes nothing stands in for the exporter.
+    monkeypatch.setitem(paramorph_cli.EXPORTERS, ".obj", (("object", "select_all"),))
+    with pytest.raises(paramorph_cli.CliError, match=f"cannot write {out}: Blender wrote nothing"):
+        paramorph_cli.save(str(out), [obj], "unwrap")
+    assert out.read_text() == "the previous result\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["blob.obj"]  # no temporary file left
+    monkeypatch.undo()
+    paramorph_cli.save(str(out), [obj], "unwrap")
+    assert sum(line.startswith("v ") for line in out.read_text().splitlines()) == len(obj.data.vertices)
+    assert [p.name for p in tmp_path.iterdir()] == ["blob.obj"]
+
+    empty = tmp_path / "empty.obj"
+    empty.write_bytes(b"")
+    with pytest.raises(paramorph_cli.CliError, match="Blender wrote an empty file"):
+        paramorph_cli.check_written(str(empty), str(out))
