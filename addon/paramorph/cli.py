@@ -43,8 +43,15 @@ target) gets the result.
 IN is a .blend, .obj, .ply or .stl file; OUT a .blend, .obj or .ply file
 (.obj and .ply keep the UVs; regions and shape keys only survive in .blend).
 Every mesh object of IN is processed unless --object names some. An error
-(bad mesh, missing file, an operator's report) is printed to stderr in plain
-words, nothing is written and the exit status is 1; usage errors exit 2.
+(bad mesh, missing or unreadable file, an operator's report, an OUT that
+cannot be written) is printed to stderr in plain words, nothing is written
+and the exit status is 1; usage errors exit 2. OUT is checked before any
+work: an existing folder, or the same file as an input however spelled, is a
+usage error (no input is ever overwritten); a folder that takes no new file is
+an error. Missing folders above OUT are created when it is written. A .obj or
+.ply is exported to a temporary file beside OUT and checked before it
+replaces OUT (Blender's exporters may fail by only printing), so a failed
+write leaves OUT as it was.
 
 Run as a script, this file puts the folder holding the add-on on sys.path and
 enables the add-on with addon_utils, as Blender does for a user; then it only
