@@ -43,8 +43,15 @@ target) gets the result.
 IN is a .blend, .obj, .ply or .stl file; OUT a .blend, .obj or .ply file
 (.obj and .ply keep the UVs; regions and shape keys only survive in .blend).
 Every mesh object of IN is processed unless --object names some. An error
-(bad mesh, missing file, an operator's report) is printed to stderr in plain
-words, nothing is written and the exit status is 1; usage errors exit 2.
+(bad mesh, missing or unreadable file, an operator's report, an OUT that
+cannot be written) is printed to stderr in plain words, nothing is written
+and the exit status is 1; usage errors exit 2. OUT is checked before any
+work: an existing folder, or the same file as an input however spelled, is a
+usage error (no input is ever overwritten); a folder that takes no new file is
+an error. Missing folders above OUT are created when it is written. A .obj or
+.ply is exported to a temporary file beside OUT and checked before it
+replaces OUT (Blender's exporters may fail by only printing), so a failed
+write leaves OUT as it was.
 
 Run as a script, this file puts the folder holding the add-on on sys.path and
 enables the add-on with addon_utils, as Blender does for a user; then it only
@@ -54,6 +61,7 @@ import argparse
 import math
 import os
 import sys
+import tempfile
 import traceback
 
 import bpy
@@ -218,6 +226,7 @@ def parse_args(argv):
     for label, path, allowed in files:
         if os.path.splitext(path)[1].lower() not in allowed:
             parser.error(f"{label} must end in {', '.join(allowed)}, not {path!r}")
+    check_output_name(parser, files)
     if args.command == "segment":
         only = {"extremities": ("threshold",),
                 "features": ("normal_angle", "concavity_threshold", "spacing")}
@@ -233,6 +242,31 @@ def parse_args(argv):
         parser.error("--select-ball needs a radius above 0")
     args.parser = parser
     return args
+
+
+def same_file(a, b):
+    """Whether paths `a` and `b` name one file (however spelled: relative,
+    through a symbolic link, or a hard link to it)."""
+    if os.path.realpath(a) == os.path.realpath(b):
+        return True
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist
+        return False
+
+
+def check_output_name(parser, files):
+    """Usage errors before any work: OUT (the last of `files`) is an existing
+    folder or other non-file, or is one of the input files (which the command
+    would overwrite)."""
+    label, out, _ = files[-1]
+    if os.path.exists(out) and not os.path.isfile(out):
+        kind = "a folder" if os.path.isdir(out) else "not a regular file"
+        parser.error(f"{label} {out!r} is {kind}: name the file to write")
+    for name, path, _ in files[:-1]:
+        if same_file(path, out):
+            parser.error(f"{label} {out!r} is the same file as {name}: write the result to another "
+                         f"file ({name} is never overwritten)")
 
 
 def check_pins(parser, pins):
@@ -272,6 +306,8 @@ def call_operator(op, **options):
     except RuntimeError as error:
         lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
         lines = [line[len("Error: "):] if line.startswith("Error: ") else line for line in lines]
+        if lines and lines[0].startswith("Python: Traceback"):  # a Python operator's exception:
+            lines = [line for line in lines if not line.startswith("Location:")][-1:]  # its last line
         raise CliError("; ".join(lines) or f"{op.idname_py()} failed") from None
     if "FINISHED" not in status:
         raise CliError(f"{op.idname_py()} did not finish ({', '.join(sorted(status))})")
@@ -424,13 +460,45 @@ def check_options(args):
     check_ranges(args.parser, op, options, FLAGS)
 
 
+def check_writable(path):
+    """Before any work: OUT's folder, or the nearest existing folder above it
+    (save creates the missing ones), takes a new file; CliError otherwise. The
+    probe is an unnamed temporary file: nothing is left behind."""
+    existing = os.path.dirname(os.path.abspath(path))
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise CliError(f"cannot write {path}: {existing} is a file, not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as error:
+        raise CliError(f"cannot write {path}: the folder {existing} takes no new file "
+                       f"({error.strerror or error})") from None
+
+
+def check_written(written, path):
+    """`written` is a file and not empty (Blender's exporters may fail by
+    only printing a message); CliError naming OUT (`path`) otherwise."""
+    size = os.path.getsize(written) if os.path.isfile(written) else None
+    if not size:
+        what = "nothing" if size is None else "an empty file"
+        raise CliError(f"cannot write {path}: Blender wrote {what} (see its messages above)")
+
+
 def save(path, objects, command):
+    """Writes OUT; CliError (and OUT as it was) when that fails. .obj and .ply
+    are exported to a temporary file beside OUT, checked, then renamed to it."""
     ext = os.path.splitext(path)[1].lower()
     folder = os.path.dirname(path)
-    if folder:
+    try:
         os.makedirs(folder, exist_ok=True)
+    except OSError as error:
+        raise CliError(f"cannot write {path}: cannot create the folder {folder}: "
+                       f"{error.strerror or error}") from None
     if ext == ".blend":
-        bpy.ops.wm.save_as_mainfile(filepath=path, check_existing=False)
+        call_operator(bpy.ops.wm.save_as_mainfile, filepath=path, check_existing=False)
+        check_written(path, path)
         return
     activate(objects[0], objects)
     if command == "sphere":  # the exporters write the active UV layer
@@ -439,14 +507,43 @@ def save(path, objects, command):
     for module, name in EXPORTERS[ext]:
         op = find_operator(module, name)
         if op is not None:
-            call_operator(op, **operator_options(
-                op, filepath=path, check_existing=False,
-                export_selected_objects=True, use_selection=True,   # 4.x / 3.4 names
-                export_uv=True, use_uv_coords=True,
-                export_colors="SRGB" if name == "ply_export" else True, use_colors=True,
-                export_materials=False))
-            return
-    raise CliError(f"this Blender has no {ext} exporter")
+            break
+    else:
+        raise CliError(f"this Blender has no {ext} exporter")
+    stem = os.path.splitext(os.path.basename(path))[0]
+    partial = os.path.join(folder, f".{stem}.paramorph-{os.getpid()}{ext}")  # hidden, this run's own
+    try:
+        call_operator(op, **operator_options(
+            op, filepath=partial, check_existing=False,
+            export_selected_objects=True, use_selection=True,   # 4.x / 3.4 names
+            export_uv=True, use_uv_coords=True,
+            export_colors="SRGB" if name == "ply_export" else True, use_colors=True,
+            export_materials=False))
+        check_written(partial, path)
+        os.replace(partial, path)
+    except OSError as error:
+        raise CliError(f"cannot write {path}: {error.strerror or error}") from None
+    finally:
+        if os.path.lexists(partial):
+            os.remove(partial)
+
+
+def unreadable_blend(label, path, error):
+    """The message for a .blend that Blender cannot open (`error` its OSError)."""
+    detail = " ".join(str(error).split())
+    detail = detail[len("Error: "):] if detail.startswith("Error: ") else detail
+    if not detail or "failed to open blend file" in detail:  # all 'load:' says: not a .blend at all
+        return f"{label}: {path} is not a .blend file"
+    return f"{label}: {path} cannot be read: {detail}"
+
+
+def check_input(label, path):
+    """An input file exists (CliError naming it, after `label` when given, otherwise)."""
+    named = f"{label}: {path}" if label else path
+    if os.path.isdir(path):
+        raise CliError(f"{named} is a folder, not a file")
+    if not os.path.isfile(path):
+        raise CliError(f"{named}: no such file")
 
 
 def _added_mesh_object(path, wanted, label):
@@ -454,9 +551,12 @@ def _added_mesh_object(path, wanted, label):
     a mesh file (imported) to the scene; returns the one (or the one named `wanted`)."""
     ext = os.path.splitext(path)[1].lower()
     if ext == ".blend":
-        with bpy.data.libraries.load(path, link=False) as (data_from, data_to):
-            names = list(data_from.objects)
-            data_to.objects = [wanted] if wanted in names else ([] if wanted else names)
+        try:
+            with bpy.data.libraries.load(path, link=False) as (data_from, data_to):
+                names = list(data_from.objects)
+                data_to.objects = [wanted] if wanted in names else ([] if wanted else names)
+        except OSError as error:  # not a .blend, or a damaged one
+            raise CliError(unreadable_blend(label, path, error)) from None
         added = [o for o in data_to.objects if o is not None]
         for obj in added:
             bpy.context.scene.collection.objects.link(obj)
@@ -486,10 +586,10 @@ def _added_mesh_object(path, wanted, label):
 
 def start_two_file_command(args, source_label, target_label):
     """For morph and paste: both input files exist (else CliError naming the
-    missing one), then an empty scene with the add-on enabled."""
+    missing one) and OUT can be written, then an empty scene with the add-on enabled."""
     for label, path in ((source_label, args.source), (target_label, args.target)):
-        if not os.path.isfile(path):
-            raise CliError(f"{label}: {path}: no such file")
+        check_input(label, path)
+    check_writable(args.output)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return enable_addon(args.backend)
 
@@ -523,9 +623,7 @@ def morph_main(args):
         for note in summary["notes"]:
             print(f"{name}: {note}", flush=True)
         out = os.path.abspath(args.output)
-        if os.path.dirname(out):
-            os.makedirs(os.path.dirname(out), exist_ok=True)
-        bpy.ops.wm.save_as_mainfile(filepath=out, check_existing=False)
+        save(out, None, "morph")
     except CliError as error:
         print(f"{name}: error: {error}", file=sys.stderr, flush=True)
         return 1
@@ -628,8 +726,8 @@ def main(argv):
         return paste_main(args)
     name = f"paramorph {args.command}"
     try:
-        if not os.path.isfile(args.input):
-            raise CliError(f"{args.input}: no such file")
+        check_input(None, args.input)
+        check_writable(args.output)
         load(os.path.abspath(args.input))
         enable_addon(args.backend)
         check_options(args)

@@ -15,6 +15,7 @@ import pytest
 import blender_subprocess
 import make_samples
 from paramorph import bridge, uv_patch
+from paramorph import cli as paramorph_cli
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BUILD = os.path.join(REPO, os.environ.get("PARAMORPH_BUILD_DIR", "build"), "python")
@@ -124,6 +125,7 @@ def test_sphere_obj_out_carries_the_sphere_uvs(cli, tmp_path):
     for out in (as_blend, as_obj):
         proc = run_cli(cli, tmp_path, "sphere", src, out, "--no-shape-key", "--backend", "cpu")
         assert proc.returncode == 0, output(proc)
+    assert not list(tmp_path.glob(".*paramorph-*"))  # the .obj was written through a temporary file
     assert "UV layer 'Sphere' (" in proc.stdout  # no shape key in the summary
 
     open_output(as_blend)
@@ -379,3 +381,144 @@ def test_paste_errors_exit_1_and_usage_errors_exit_2(cli, tmp_path):
         assert proc.returncode == 2, (bad, output(proc))
         assert "usage:" in proc.stderr, (bad, output(proc))
     assert not out.exists()
+
+
+# --- OUT and IN paths: checked before any work, refused in plain words ---------
+
+def snapshot(folder):
+    """Every path under `folder`, with the bytes of each file (None for a folder)."""
+    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else None
+            for p in sorted(folder.rglob("*"))}
+
+
+def refused(proc, code, message):
+    """Exit status `code`, `message` on stderr, no traceback, nothing written."""
+    assert proc.returncode == code, output(proc)
+    assert message in proc.stderr, output(proc)
+    assert "Traceback" not in proc.stderr and "wrote" not in proc.stdout, output(proc)
+    if code == 2:
+        assert "usage: " in proc.stderr, output(proc)
+
+
+def blob_files(tmp_path):
+    """A folder "files" with the blob as blob.blend and blob.obj; returns the folder."""
+    files = tmp_path / "files"
+    files.mkdir()
+    make_samples.build_blob(subdivisions=1)
+    save_blend(files / "blob.blend")
+    export(files / "blob.obj")
+    return files
+
+
+@pytest.mark.parametrize("ext", [".obj", ".ply", ".blend"])
+def test_output_in_a_place_that_takes_no_file_fails_before_any_work(cli, tmp_path, ext):
+    files = blob_files(tmp_path)
+    notes = files / "notes.txt"
+    notes.write_text("a file, not a folder\n")
+    before = snapshot(files)
+    for out in (notes / f"blob{ext}", notes / "sub" / f"blob{ext}"):
+        proc = run_cli(cli, tmp_path, "sphere", files / "blob.blend", out)
+        refused(proc, 1, f"paramorph sphere: error: cannot write {out}: {notes} is a file, not a folder")
+        assert "Blob:" not in proc.stdout, output(proc)  # before the sphere map
+    if os.path.isdir("/proc"):  # a folder that takes no new file, even for root
+        out = f"/proc/paramorph-test{ext}"
+        proc = run_cli(cli, tmp_path, "sphere", files / "blob.blend", out)
+        refused(proc, 1, f"paramorph sphere: error: cannot write {out}: the folder /proc takes no new file")
+        assert "Blob:" not in proc.stdout, output(proc)
+    out = notes / f"blob{ext}"
+    if ext == ".blend":
+        proc = run_cli(cli, tmp_path, "morph", files / "blob.obj", files / "blob.blend", "-o", out)
+        refused(proc, 1, f"paramorph morph: error: cannot write {out}: {notes} is a file, not a folder")
+    proc = run_cli(cli, tmp_path, "paste", files / "blob.blend", files / "blob.obj", out,
+                   "--select-ball", "0,0,0,1", "--at", "0,0,1")
+    refused(proc, 1, f"paramorph paste: error: cannot write {out}: {notes} is a file, not a folder")
+    assert snapshot(files) == before
+
+
+def test_output_that_is_an_input_is_a_usage_error(cli, tmp_path):
+    files = blob_files(tmp_path)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    os.symlink(blend, files / "link.blend")
+    os.link(obj, files / "hard.obj")
+    before = snapshot(files)
+    ball = ["--select-ball", "0,0,0,1", "--at", "0,0,1"]
+    for args, label in ((["sphere", os.path.relpath(blend), f"{files}/./blob.blend"], "IN"),
+                        (["unwrap", files / "link.blend", blend], "IN"),                # a symbolic link
+                        (["segment", obj, files / "hard.obj"], "IN"),                   # a hard link
+                        (["sphere", obj, f"{files}/../files/blob.obj"], "IN"),
+                        (["morph", obj, blend, "-o", files / "link.blend"], "B"),
+                        (["morph", blend, obj, "-o", blend], "A"),
+                        (["paste", blend, obj, f"{files}/./blob.blend", *ball], "SOURCE"),
+                        (["paste", blend, obj, files / "hard.obj", *ball], "TARGET")):
+        proc = run_cli(cli, tmp_path, *args)
+        refused(proc, 2, f"is the same file as {label}: write the result to another file")
+    assert snapshot(files) == before  # no input overwritten, no .blend1 backup
+
+
+def test_output_that_is_a_folder_is_a_usage_error(cli, tmp_path):
+    files = blob_files(tmp_path)
+    for name in ("out.blend", "out.obj", "out.ply"):
+        (files / name).mkdir()
+        (files / name / "keep.txt").write_text("a file in a folder named like an output\n")
+    before = snapshot(files)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    for args in (["sphere", blend, files / "out.blend"],
+                 ["unwrap", obj, files / "out.obj"],
+                 ["morph", obj, blend, "-o", files / "out.blend"],
+                 ["paste", blend, obj, files / "out.ply", "--select-ball", "0,0,0,1", "--at", "0,0,1"]):
+        proc = run_cli(cli, tmp_path, *args)
+        refused(proc, 2, f"OUT '{args[-1] if args[0] != 'paste' else args[3]}' is a folder: name the file to write")
+    assert snapshot(files) == before  # the folders not renamed to *.blend1, nothing written in them
+
+
+def test_bad_blend_inputs_fail_in_plain_words(cli, tmp_path):
+    files = blob_files(tmp_path)
+    blend, obj = files / "blob.blend", files / "blob.obj"
+    (files / "x.blend").write_text("this is not a blend file\n")
+    (files / "broken.blend").write_bytes(blend.read_bytes()[:2000])  # cut short
+    (files / "folder.blend").mkdir()
+    before = snapshot(files)
+    out = tmp_path / "out.blend"
+    ball = ["--select-ball", "0,0,0,1", "--at", "0,0,1"]
+    cases = {"x.blend": "is not a .blend file", "broken.blend": "cannot be read: ",
+             "missing.blend": ": no such file", "folder.blend": "is a folder, not a file"}
+    for name, message in cases.items():
+        bad = files / name
+        for args, label in ((["sphere", bad, out], None),
+                            (["morph", obj, bad, "-o", out], "B"),
+                            (["paste", bad, obj, out, *ball], "SOURCE")):
+            proc = run_cli(cli, tmp_path, *args)
+            assert proc.returncode == 1, output(proc)
+            assert "Traceback" not in proc.stderr and "wrote" not in proc.stdout, output(proc)
+            error = [line for line in proc.stderr.splitlines() if line.startswith(f"paramorph {args[0]}: error: ")]
+            assert len(error) == 1 and name in error[0], output(proc)
+            if label is not None:  # morph and paste say which input, and what is wrong with it
+                assert f"error: {label}: " in error[0] and message in error[0], output(proc)
+    proc = run_cli(cli, tmp_path, "morph", files / "x.blend", obj, "-o", out)
+    refused(proc, 1, f"paramorph morph: error: A: {files / 'x.blend'} is not a .blend file")
+    proc = run_cli(cli, tmp_path, "paste", blend, files / "broken.blend", out, *ball)
+    refused(proc, 1, f"paramorph paste: error: TARGET: {files / 'broken.blend'} cannot be read: ")
+    assert snapshot(files) == before and not out.exists()
+
+
+def test_an_exporter_that_writes_nothing_is_an_error_and_out_stays(tmp_path, monkeypatch):
+    """Blender's exporters may fail by only printing (3.4's OBJ exporter on a
+    path it cannot open): save() checks what was written."""
+    obj = make_samples.build_blob(subdivisions=1)
+    out = tmp_path / "blob.obj"
+    out.write_text("the previous result\n")
+    # An operator that finishes and writes nothing stands in for the exporter.
+    monkeypatch.setitem(paramorph_cli.EXPORTERS, ".obj", (("object", "select_all"),))
+    with pytest.raises(paramorph_cli.CliError, match=f"cannot write {out}: Blender wrote nothing"):
+        paramorph_cli.save(str(out), [obj], "unwrap")
+    assert out.read_text() == "the previous result\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["blob.obj"]  # no temporary file left
+    monkeypatch.undo()
+    paramorph_cli.save(str(out), [obj], "unwrap")
+    assert sum(line.startswith("v ") for line in out.read_text().splitlines()) == len(obj.data.vertices)
+    assert [p.name for p in tmp_path.iterdir()] == ["blob.obj"]
+
+    empty = tmp_path / "empty.obj"
+    empty.write_bytes(b"")
+    with pytest.raises(paramorph_cli.CliError, match="Blender wrote an empty file"):
+        paramorph_cli.check_written(str(empty), str(out))
