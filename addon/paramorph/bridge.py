@@ -131,15 +131,26 @@ def object_mode(context, obj, face_select=False):
                 bpy.ops.object.mode_set(mode=mode)
 
 
-def write_sphere_map(obj, V, result, uv_name="Sphere", key_name="Sphere", shape_key=True):
-    """UV layer `uv_name` from the map and, optionally, shape key `key_name`
-    (the sphere scaled to the mesh's bounding sphere)."""
+def write_sphere_map(obj, V, positions, uv_name="Sphere", key_name="Sphere", shape_key=True, mapped=None):
+    """UV layer `uv_name` from the map's (n, 3) `positions` and, optionally,
+    shape key `key_name` (the sphere scaled to the mesh's bounding sphere).
+    mapped: mask of the vertices the map covers (None: all); the others (parts
+    a repair left out) keep their place in the shape key and take their
+    direction from the centre in the UVs."""
     mesh = obj.data
-    write_uv_layer(mesh, sphere_uv(mesh, result.positions), uv_name)
+    center = 0.5 * (V.min(axis=0) + V.max(axis=0))
+    positions = np.asarray(positions, dtype=np.float64)
+    if mapped is not None and not mapped.all():
+        direction = V[~mapped] - center
+        positions = positions.copy()
+        positions[~mapped] = direction / np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-300)
+    write_uv_layer(mesh, sphere_uv(mesh, positions), uv_name)
     if shape_key:
-        center = 0.5 * (V.min(axis=0) + V.max(axis=0))
         radius = float(np.linalg.norm(V - center, axis=1).max())
-        add_shape_key(obj, center + radius * result.positions, key_name)
+        key = center + radius * positions
+        if mapped is not None:
+            key[~mapped] = V[~mapped]
+        add_shape_key(obj, key, key_name)
 
 
 def sphere_map_object(obj, uv_name="Sphere", key_name="Sphere", **options):
@@ -149,5 +160,5 @@ def sphere_map_object(obj, uv_name="Sphere", key_name="Sphere", **options):
     pm = require_native()
     V, F, _, _ = mesh_arrays(obj.data)
     result = pm.sphere_map(V, F, **options)
-    write_sphere_map(obj, V, result, uv_name, key_name)
+    write_sphere_map(obj, V, result.positions, uv_name, key_name)
     return result

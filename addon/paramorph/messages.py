@@ -7,9 +7,19 @@ def _count(n, word):
     return f"{n} {word}{'' if n == 1 else 's'}"
 
 
-def describe(error, V=None, F=None):
+def describe(error, V=None, F=None, repair=None):
     """A one-line message for `error`; V, F (the arrays sent to the native
-    call) let it count holes and components."""
+    call) let it count holes and components. repair: None when the operator
+    has no Repair option, else whether it was on (the advice differs)."""
+    text = _describe(error, V, F, repair)
+    if repair is False and native is not None and isinstance(
+            error, (native.NotClosedError, native.DisconnectedError, native.NonManifoldError,
+                    native.DegenerateFaceError)):
+        text += ", or turn on Repair (in the operator's options)"
+    return text
+
+
+def _describe(error, V, F, repair):
     pm = native
     if pm is None:
         return str(error)
@@ -33,6 +43,9 @@ def describe(error, V=None, F=None):
     if isinstance(error, pm.NotGenusZeroError):
         genus = report.genus if report is not None and report.genus > 0 else None
         head = f"mesh has {_count(genus, 'handle')} (genus {genus})" if genus else "mesh has handles"
+        if repair:
+            return (f"{head}: Repair mends seams and fills holes but cannot remove handles; it must be a "
+                    "sphere-like surface (cut or fill the handles first)")
         return f"{head}: it must be a sphere-like surface (cut or fill the handles first)"
     if isinstance(error, pm.DisconnectedError):
         parts = report.components if report is not None and report.components > 1 else None

@@ -46,7 +46,7 @@ class NativeOperator:
     def describe_error(self, error, state):
         """The report for a failed native call (state["arrays"]: the mesh sent)."""
         arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
-        return messages.describe(error, *arrays)
+        return messages.describe(error, *arrays, repair=getattr(self, "repair", None))
 
     def execute(self, context):
         prepared = self._prepare_or_report(context)

@@ -8,7 +8,7 @@ and feature points in "paramorph_feature_point" (per vertex: +1 concave,
 import bpy
 import numpy as np
 
-from . import bridge, overlay, regions, sphere_cache
+from . import bridge, overlay, regions, repair_mesh, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 
@@ -17,13 +17,19 @@ class _Segmenter(NativeOperator):
         obj = context.active_object
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, tri_poly, _ = bridge.mesh_arrays(obj.data, polygons=True)
-        state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly}
-        return self.native_call(), (V, F), self.native_options(V, F), state
+        repair = getattr(self, "repair", False)
+        state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly, "repaired": repair}
+        function = repair_mesh.repaired_call(self.native_call()) if repair else self.native_call()
+        return function, (V, F), self.native_options(V, F), state
 
     def finish(self, context, result, state):
         obj = bpy.data.objects[state["object"]]
+        fixed, result = result if state["repaired"] else (None, result)
         segmentation = result[0] if isinstance(result, tuple) else result
-        labels = regions.polygon_labels(obj.data, np.asarray(segmentation.face_labels), state["tri_poly"])
+        triangle_labels = np.asarray(segmentation.face_labels)
+        if fixed is not None:
+            triangle_labels = fixed.face_labels_to_input(triangle_labels, state["arrays"][1])
+        labels = regions.polygon_labels(obj.data, triangle_labels, state["tri_poly"])
         with bridge.object_mode(context, obj):
             regions.write_labels(obj.data, labels)
             regions.write_label_colors(obj.data, labels)
@@ -34,7 +40,16 @@ class _Segmenter(NativeOperator):
         overlay.forget(obj.name)
         for area in context.screen.areas if context.screen else ():
             area.tag_redraw()
-        return self.summary(result, obj.paramorph_regions)
+        return repair_mesh.with_summary(self.summary(result, obj.paramorph_regions), fixed)
+
+
+def _segment_extremities(V, F, *, progress, **options):
+    """native.segment_extremities on the conformal map Sphere Map just computed
+    on this geometry (after a repair: on the repaired one), if any."""
+    sphere = sphere_cache.get(sphere_cache.key(V, F, "conformal"))
+    if sphere is not None:
+        options["sphere"] = sphere
+    return native.segment_extremities(V, F, progress=progress, **options)
 
 
 class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):
@@ -51,16 +66,13 @@ class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):
         name="Minimum Area", default=0.01, min=0.0, max=0.5, subtype="FACTOR",
         description="Regions under this share of the surface are merged into a neighbour")
 
+    repair: repair_mesh.REPAIR_PROPERTY
+
     def native_call(self):
-        return native.segment_extremities
+        return _segment_extremities
 
     def native_options(self, V, F):
-        # The conformal map Sphere Map just computed on this geometry, if any.
-        options = {"threshold": self.threshold, "min_area": self.min_area}
-        sphere = sphere_cache.get(sphere_cache.key(V, F, "conformal"))
-        if sphere is not None:
-            options["sphere"] = sphere
-        return options
+        return {"threshold": self.threshold, "min_area": self.min_area}
 
     def summary(self, result, count):
         return f"Segment Extremities: {count} regions"

@@ -1,8 +1,9 @@
 """Sphere Map operator (thesis ch. 3): UV layer "Sphere" from spherical
 coordinates, shape key "Sphere"."""
 import bpy
+import numpy as np
 
-from . import bridge, sphere_cache
+from . import bridge, repair_mesh, sphere_cache
 from .native import native
 from .native_operator import NativeOperator
 from .preferences import backend
@@ -22,22 +23,31 @@ class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
         default="conformal")
     shape_key: bpy.props.BoolProperty(
         name="Shape Key", default=True, description="Also add the \"Sphere\" shape key")
+    repair: repair_mesh.REPAIR_PROPERTY
 
     def prepare(self, context):
         obj = context.active_object
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, _, _ = bridge.mesh_arrays(obj.data)
-        state = {"arrays": (V, F), "object": obj.name,
-                 "cache_key": sphere_cache.key(V, F, self.weights)}
-        return native.sphere_map, (V, F), {"weights": self.weights, "backend": backend(context)}, state
+        state = {"arrays": (V, F), "object": obj.name}
+        function = repair_mesh.repaired_call(native.sphere_map) if self.repair else native.sphere_map
+        return function, (V, F), {"weights": self.weights, "backend": backend(context)}, state
 
     def finish(self, context, result, state):
-        sphere_cache.put(state["cache_key"], result.positions)
+        V, F = state["arrays"]
+        fixed, result = result if self.repair else (None, result)
+        computed_on = (fixed.V, fixed.F) if fixed is not None else (V, F)
+        sphere_cache.put(sphere_cache.key(*computed_on, self.weights), result.positions)
+        positions, mapped = result.positions, None
+        if fixed is not None:
+            mapped = fixed.kept_vertices()
+            positions = fixed.to_input(result.positions, np.zeros_like(V))
         obj = bpy.data.objects[state["object"]]
         with bridge.object_mode(context, obj):
-            bridge.write_sphere_map(obj, state["arrays"][0], result, shape_key=self.shape_key)
-        return (f"Sphere map: {len(result.positions)} vertices, {result.flipped} folds, "
+            bridge.write_sphere_map(obj, V, positions, shape_key=self.shape_key, mapped=mapped)
+        line = (f"Sphere map: {len(result.positions)} vertices, {result.flipped} folds, "
                 f"{result.seconds:.2f} s on {result.backend}")
+        return repair_mesh.with_summary(line, fixed)
 
 
 classes = (PARAMORPH_OT_sphere_map,)

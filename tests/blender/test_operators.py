@@ -64,8 +64,8 @@ def test_open_mesh_reports_in_plain_words_and_changes_nothing():
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=6, y_subdivisions=6)
     obj = bpy.context.active_object
     before = mesh_state(obj.data)
-    with pytest.raises(RuntimeError, match=r"mesh has 1 hole: close them \(Fill Holes\) first"):
-        bpy.ops.paramorph.sphere_map()
+    with pytest.raises(RuntimeError, match=r"mesh has 1 hole: close them \(Fill Holes\) first, or turn on Repair"):
+        bpy.ops.paramorph.sphere_map(repair=False)
     assert mesh_state(obj.data) == before
 
 
