@@ -3,15 +3,15 @@ would in the UI, and writes the result.
 
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- COMMAND IN OUT [options]
 
-    sphere  IN OUT [--weights conformal|barycentric] [--no-shape-key]
+    sphere  IN OUT [--weights conformal|barycentric] [--no-shape-key] [--no-repair]
     unwrap  IN OUT [--max-iterations N] [--margin M]
-    segment IN OUT [--mode extremities|features] [--threshold T] [--min-area A]
+    segment IN OUT [--mode extremities|features] [--threshold T] [--min-area A] [--no-repair]
                    [--normal-angle DEG] [--concavity-threshold C] [--spacing S]
     common: [--object NAME ...] [--backend auto|cpu|opencl]
 
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- morph A B -o OUT.blend
                    [--frames N] [--start F] [--in-betweens K] [--straight] [--linear]
-                   [--topology auto|keep|merged]
+                   [--topology auto|keep|merged] [--no-repair]
                    [--pin A_VERTEX B_VERTEX ...] [--no-automatic]
                    [--source-object NAME] [--target-object NAME] [--backend ...]
 
@@ -111,6 +111,9 @@ def build_parser():
     sphere.add_argument("--weights", choices=("conformal", "barycentric"), default="conformal")
     sphere.add_argument("--no-shape-key", dest="shape_key", action="store_false",
                         help="write only the 'Sphere' UV layer")
+    sphere.add_argument("--no-repair", dest="repair", action="store_false",
+                        help="do not mend the mesh first (merge split seams, fill holes, turn it outward, "
+                             "keep the largest part); fail on such a mesh instead")
 
     unwrap = commands.add_parser("unwrap", parents=[common],
                                  help="isometric unwrap of all faces into the active UV layer "
@@ -123,6 +126,8 @@ def build_parser():
     segment.add_argument("--mode", choices=("extremities", "features"), default="extremities",
                          help="extremities: limbs by area stretch (closed genus-0 meshes); "
                               "features: creases and pockets")
+    segment.add_argument("--no-repair", dest="repair", action="store_false",
+                         help="extremities: do not mend the mesh first (see sphere --no-repair)")
     segment.add_argument("--threshold", type=float, help="extremities: log area stretch rise")
     segment.add_argument("--min-area", type=float,
                          help="smallest region, as a share of the surface")
@@ -148,6 +153,9 @@ def build_parser():
     morph.add_argument("--straight", action="store_true",
                        help="in-betweens on straight lines (the thesis') instead of as rigid as possible")
     morph.add_argument("--linear", action="store_true", help="constant speed instead of eased")
+    morph.add_argument("--no-repair", dest="repair", action="store_false",
+                        help="do not mend the mesh first (merge split seams, fill holes, turn it outward, "
+                             "keep the largest part); fail on such a mesh instead")
     morph.add_argument("--pin", nargs=2, type=int, action="append", dest="pins", default=[],
                        metavar=("A_VERTEX", "B_VERTEX"),
                        help="take vertex A_VERTEX of A exactly onto vertex B_VERTEX of B (repeatable; "
@@ -397,7 +405,7 @@ def activate(obj, objects=None):
 
 def sphere(args, obj):
     op = bpy.ops.paramorph.sphere_map
-    call_operator(op, weights=args.weights, shape_key=args.shape_key)
+    call_operator(op, weights=args.weights, shape_key=args.shape_key, repair=args.repair)
     mesh = obj.data
     written = "UV layer 'Sphere'" + (" and shape key 'Sphere'" if args.shape_key else "")
     return f"{written} ({len(mesh.vertices)} vertices, {len(mesh.polygons)} faces)"
@@ -427,7 +435,7 @@ def unwrap(args, obj):
 
 def segment_call(args):
     if args.mode == "extremities":
-        options = {"threshold": args.threshold, "min_area": args.min_area}
+        options = {"threshold": args.threshold, "min_area": args.min_area, "repair": args.repair}
         return bpy.ops.paramorph.segment_extremities, options
     options = {"normal_angle": None if args.normal_angle is None else math.radians(args.normal_angle),
                "concavity_threshold": args.concavity_threshold,
@@ -609,7 +617,7 @@ def morph_main(args):
         call_operator(bpy.ops.paramorph.morph_to, frame_start=scene.frame_start, frame_end=scene.frame_end,
                       in_betweens=args.in_betweens, easing="LINEAR" if args.linear else "EASE",
                       interpolation="LINEAR" if args.straight else "ARAP", topology=args.topology.upper(),
-                      automatic=args.automatic, use_preview=False)
+                      automatic=args.automatic, use_preview=False, repair=args.repair)
         summary = sys.modules[f"{package}.ops_morph"].last_morph
         result = bpy.data.objects[summary["object"]]  # the new object, or A's own when its topology is kept
         keys = len(result.data.shape_keys.key_blocks) - 1

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import repair_mesh
 from .native import native
 
 
@@ -20,6 +21,11 @@ class MorphOutcome:
     keep_topology: bool = False
     distance: object = None
     target_diagonal: float = 0.0
+    # With Repair: the two meshes as mended (repair_mesh.Repaired), else None.
+    # The merged topology is then built on them; a kept topology's shapes are
+    # already back on A's own vertices.
+    repaired_a: object = None
+    repaired_b: object = None
 
 
 def key_times(in_betweens):
@@ -28,17 +34,30 @@ def key_times(in_betweens):
 
 
 def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpolation="ARAP",
-                           target_transform=None, keep_topology=False, **options):
+                           target_transform=None, keep_topology=False, repair=False, **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
     the merged mesh, or with keep_topology of A's own mesh (the target sampled
     at A's vertices through the correspondence, and its distance to B).
     target_transform: 4 x 4 taking the target's coordinates to the source's
-    (the morph ends where the target object is), or None. progress(fraction,
-    stage) -> False cancels (native.Cancelled), also between in-betweens."""
+    (the morph ends where the target object is), or None. repair: mend both
+    meshes first (repair_mesh; pins and pairs are carried onto the mended
+    meshes). progress(fraction, stage) -> False cancels (native.Cancelled),
+    also between in-betweens."""
+    fixed_a = fixed_b = None
+    if repair:
+        fixed_a = repair_mesh.repair(VA, FA, progress, share=0.05)
+        fixed_b = repair_mesh.repair(VB, FB, lambda f, stage: progress(0.05 + 0.05 * f, stage), share=1.0)
+        for name, what in (("pins", "pin"), ("pairs", "pair")):
+            if options.get(name) is not None:
+                options[name] = fixed_a.vertex_pairs_forward(options[name], fixed_b, what)
+        VA_in = np.asarray(VA, dtype=np.float64)
+        VA, FA, VB, FB = fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F
+    start = 0.1 if repair else 0.0
     share = 0.85 if in_betweens and interpolation == "ARAP" else 1.0
-    result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(share * f, stage), **options)
+    result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(start + (share - start) * f, stage),
+                          **options)
     source, target, faces = np.asarray(result.source), np.asarray(result.target), np.asarray(result.faces)
-    outcome = MorphOutcome(result, target, [])
+    outcome = MorphOutcome(result, target, [], repaired_a=fixed_a, repaired_b=fixed_b)
     if keep_topology:
         source, target, faces = np.asarray(VA, dtype=np.float64), target[np.asarray(result.vertex_of_a)], np.asarray(FA)
         outcome.keep_topology = True
@@ -47,12 +66,15 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     if target_transform is not None:
         M = np.asarray(target_transform, dtype=np.float64)
         target = target @ M[:3, :3].T + M[:3, 3]
-    outcome.target = target
+    # A kept topology's shapes go back onto A's own vertices; the ones repair
+    # left out (loose, a smaller part) stay where they are.
+    back = (lambda X: fixed_a.to_input(X, VA_in)) if keep_topology and fixed_a is not None else (lambda X: X)
+    outcome.target = back(target)
     times = key_times(in_betweens)[:-1]
     if not times:
         return outcome
     if interpolation == "LINEAR":
-        outcome.shapes = [(1.0 - t) * source + t * target for t in times]
+        outcome.shapes = [back((1.0 - t) * source + t * target) for t in times]
         return outcome
     if not progress(share, "in-betweens: factoring"):
         raise native.Cancelled("cancelled")
@@ -60,5 +82,22 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     for k, t in enumerate(times):
         if not progress(share + (1.0 - share) * (k + 1) / (len(times) + 1), f"in-between {k + 1} of {len(times)}"):
             raise native.Cancelled("cancelled")
-        outcome.shapes.append(interp.at(t))
+        outcome.shapes.append(back(interp.at(t)))
     return outcome
+
+
+def correspondence(VA, FA, VB, FB, *, progress, repair=False, **options):
+    """native.morph_correspondence (Preview Matches), after mending both
+    meshes when `repair`. Returns (result, repaired_a, repaired_b); the
+    result's pairs are on the mended meshes' vertices then."""
+    fixed_a = fixed_b = None
+    if repair:
+        fixed_a = repair_mesh.repair(VA, FA, progress, share=0.05)
+        fixed_b = repair_mesh.repair(VB, FB, lambda f, stage: progress(0.05 + 0.05 * f, stage), share=1.0)
+        if options.get("pins") is not None:
+            options["pins"] = fixed_a.vertex_pairs_forward(options["pins"], fixed_b)
+        VA, FA, VB, FB = fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F
+    start = 0.1 if repair else 0.0
+    result = native.morph_correspondence(
+        VA, FA, VB, FB, progress=lambda f, stage: progress(start + (1.0 - start) * f, stage), **options)
+    return result, fixed_a, fixed_b

@@ -17,7 +17,7 @@ succeeded."""
 import bpy
 import numpy as np
 
-from . import bridge, messages, morph_job, morph_object, overlay
+from . import bridge, messages, morph_job, morph_object, overlay, repair_mesh
 from .native import native
 from .native_operator import NativeOperator, UserError
 
@@ -174,6 +174,12 @@ def inside_out_note(result, source, target):
     return [f"{name}'s faces pointed inwards: turned for the morph" for name in turned]
 
 
+def repair_notes(fixed_a, fixed_b, source, target):
+    """"Horse repaired: merged 12 vertices ..." for each mesh Repair changed."""
+    return [f"{o.name} {fixed.summary()}" for o, fixed in ((source, fixed_a), (target, fixed_b))
+            if fixed is not None and fixed.changed]
+
+
 # --- operators -----------------------------------------------------------------------
 
 class CorrespondenceSettings:
@@ -189,6 +195,7 @@ class CorrespondenceSettings:
     features: bpy.props.BoolProperty(
         name="Feature Points", default=True,
         description="Weigh the pairing of feature points (creases, pockets) of both meshes")
+    repair: repair_mesh.REPAIR_PROPERTY
     proxy_faces: bpy.props.IntProperty(
         name="Proxy Faces", default=3000, min=500, soft_max=20000,
         description="Faces of the simplified copies the candidates are scored on (more: slower, "
@@ -217,7 +224,8 @@ class _TwoMeshes(NativeOperator):
         for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
             if text.startswith(tag):
                 stripped = _with_text(error, text[len(tag):])
-                return f"{state[side]}: {messages.describe(stripped, *state['arrays_' + side])}"
+                described = messages.describe(stripped, *state['arrays_' + side], repair=getattr(self, "repair", None))
+                return f"{state[side]}: {described}"
         if isinstance(error, native.InvalidInputError):  # pins or pairs out of range
             return f"{pair}: {text} (A: {state['source']}, B: {state['target']})"
         return messages.describe(error)
@@ -246,10 +254,11 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
         VB, FB, _, _ = _arrays(context, target)
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "pins": pins}
-        options = dict(self.correspondence_options(), pins=pins)
-        return native.morph_correspondence, (VA, FA, VB, FB), options, state
+        options = dict(self.correspondence_options(), pins=pins, repair=self.repair)
+        return morph_job.correspondence, (VA, FA, VB, FB), options, state
 
-    def finish(self, context, result, state):
+    def finish(self, context, outcome, state):
+        result, fixed_a, fixed_b = outcome
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
         matches = claim(context.scene.paramorph_matches, source, target)
         for i in reversed(range(len(matches.pairs))):  # the pins stay, the old automatic pairs go
@@ -264,6 +273,8 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
             item.chosen, item.pairs = i == result.chosen, len(c.proxy_pairs)
         chosen = candidates[result.chosen]
         pairs = np.asarray(result.pairs).reshape(-1, 2)
+        if fixed_a is not None:  # on the mended meshes' vertices: back onto the objects'
+            pairs = fixed_a.vertex_pairs_back(pairs, fixed_b)
         pins = pin_array(matches)
         for a, b in pairs:
             if a not in pins[:, 0] and b not in pins[:, 1]:
@@ -272,7 +283,7 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
         overlay.tag_redraw(context)
         none = next((c for c in candidates if c.kind == "none"), None)
         against = f" (no pairs: {none.score:.3g})" if none is not None and chosen.kind != "none" else ""
-        notes = inside_out_note(result, source, target)
+        notes = inside_out_note(result, source, target) + repair_notes(fixed_a, fixed_b, source, target)
         return (f"Preview Matches: chosen {candidate_line(chosen)}{against}; "
                 f"{_count(len(matches.pairs) - len(pins), 'pair')}, {_count(len(pins), 'pin')}"
                 + "".join(f"; {n}" for n in notes))
@@ -451,7 +462,8 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         VB, FB, _, _ = _arrays(context, target)
         keep = self.topology == "KEEP" or (self.topology == "AUTO" and keeps_topology(source))
         options = dict(self.correspondence_options(), automatic=self.automatic, pins=pins,
-                       in_betweens=self.in_betweens, interpolation=self.interpolation, keep_topology=keep)
+                       in_betweens=self.in_betweens, interpolation=self.interpolation, keep_topology=keep,
+                       repair=self.repair)
         if pairs is not None:
             options["pairs"] = pairs
         if self.placement == "TARGET":
@@ -468,19 +480,24 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
             morph_object.add_morph_keys(context, source, outcome.shapes, outcome.target, target_name=target.name,
                                         frame_start=self.frame_start, frame_end=self.frame_end,
                                         easing=self.easing == "EASE")
-            report, coarse = keep_report(source, target, outcome, state["previewed"])
+            report, coarse = keep_report(source, target, outcome, state["previewed"],
+                                         repair_notes(outcome.repaired_a, outcome.repaired_b, source, target))
             if coarse:
                 self.report({"WARNING"}, coarse)
             return report
+        tri_poly, tri_loops = state["tri_poly"], state["tri_loops"]
+        if outcome.repaired_a is not None:  # the merged faces come from the mended source's triangles
+            tri_poly, tri_loops = outcome.repaired_a.triangle_maps(tri_poly, tri_loops)
         obj = morph_object.build(
             context, f"{source.name} to {target.name}", source, result, outcome.target, outcome.shapes,
-            tri_poly=state["tri_poly"], tri_loops=state["tri_loops"], target_name=target.name,
+            tri_poly=tri_poly, tri_loops=tri_loops, target_name=target.name,
             frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE")
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)
         context.view_layer.objects.active = obj
         input_faces = len(state["arrays_source"][1]) + len(state["arrays_target"][1])
-        return morph_report(obj, result, source, target, state["previewed"], input_faces)
+        notes = repair_notes(outcome.repaired_a, outcome.repaired_b, source, target)
+        return morph_report(obj, result, source, target, state["previewed"], input_faces, notes)
 
 
 # The last finished Morph To in this session: {"object", "chosen", "held", "notes"}
@@ -503,7 +520,7 @@ def keeps_topology(obj):
     return rigged or len(obj.vertex_groups) > 0 or len(obj.data.uv_layers) > 0
 
 
-def keep_report(source, target, outcome, previewed=False):
+def keep_report(source, target, outcome, previewed=False, repaired=()):
     """(INFO line, WARNING line or None) for a morph onto the source's own topology."""
     global last_morph
     result = outcome.result
@@ -514,7 +531,7 @@ def keep_report(source, target, outcome, previewed=False):
     chosen = result.candidates[result.chosen]
     how = "previewed pairs" if previewed else "chosen"
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
-    notes = inside_out_note(result, source, target)
+    notes = inside_out_note(result, source, target) + list(repaired)
     keys = len(outcome.shapes) + 1
     last_morph = {"object": source.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes,
                   "hausdorff": share}
@@ -530,7 +547,7 @@ def keep_report(source, target, outcome, previewed=False):
     return line, coarse
 
 
-def morph_report(obj, result, source, target, previewed=False, input_faces=0):
+def morph_report(obj, result, source, target, previewed=False, input_faces=0, repaired=()):
     """Morph To's one-line report: the merged faces against the inputs', the chosen
     candidate, what holds exactly, inside-out files, time."""
     global last_morph
@@ -540,7 +557,7 @@ def morph_report(obj, result, source, target, previewed=False, input_faces=0):
     how = "previewed pairs" if previewed else "chosen"
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
     seconds = result.timings[-1][1] if result.timings else 0.0
-    notes = inside_out_note(result, source, target)
+    notes = inside_out_note(result, source, target) + list(repaired)
     last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
     size = f" ({len(result.faces) / input_faces:.1f}x the inputs' {input_faces})" if input_faces else ""
     welded = result.weld.collapsed_edges

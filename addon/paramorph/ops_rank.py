@@ -4,7 +4,7 @@ sphere map) is to the active object's. The list shows in the panel."""
 import bpy
 import numpy as np
 
-from . import bridge, sphere_cache
+from . import bridge, repair_mesh, sphere_cache
 from .native import native
 from .native_operator import NativeOperator, UserError
 from .preferences import backend
@@ -19,10 +19,12 @@ class ParamorphSimilarShape(bpy.types.PropertyGroup):
     note: bpy.props.StringProperty(name="Note", description="Why the object could not be compared")
 
 
-def _signatures(items, *, progress, backend):
-    """Signatures of (name, key, V, F) items; an exception per item that fails."""
+def _signatures(items, *, progress, backend, repair=False):
+    """Signatures of (name, key, V, F) items (each mended first when
+    `repair`); an exception per item that fails."""
     out = []
     for i, (name, key, V, F) in enumerate(items):
+        key = key + ("repaired",) if repair else key
         if key in _signature_cache:
             out.append((name, _signature_cache[key]))
             continue
@@ -30,7 +32,11 @@ def _signatures(items, *, progress, backend):
         def item_progress(fraction, stage, i=i):
             return progress((i + fraction) / len(items), f"{name}: {stage}")
         try:
-            sphere = sphere_cache.get(key)
+            if repair:
+                fixed = repair_mesh.repair(V, F, item_progress)
+                V, F = fixed.V, fixed.F
+                item_progress = repair_mesh.after_repair(item_progress)
+            sphere = sphere_cache.get(sphere_cache.key(V, F))
             if sphere is None:
                 sphere = native.sphere_map(V, F, backend=backend, progress=item_progress).positions
             signature = native.shape_signature(V, F, sphere=sphere)
@@ -50,6 +56,8 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
     bl_label = "Rank Similar Shapes"
     bl_options = {"REGISTER"}  # writes only the list shown in the panel
 
+    repair: repair_mesh.REPAIR_PROPERTY
+
     def prepare(self, context):
         active = context.active_object
         others = [o for o in context.scene.objects if o.type == "MESH" and o != active]
@@ -61,7 +69,7 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
                 V, F, _, _ = bridge.mesh_arrays(obj.data)
             items.append((obj.name, sphere_cache.key(V, F), V, F))
         state = {"active": active.name, "arrays": (items[0][2], items[0][3])}
-        return _signatures, (items,), {"backend": backend(context)}, state
+        return _signatures, (items,), {"backend": backend(context), "repair": self.repair}, state
 
     def finish(self, context, result, state):
         reference = result[0][1]

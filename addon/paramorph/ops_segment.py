@@ -28,7 +28,7 @@ class _Segmenter(NativeOperator):
         segmentation = result[0] if isinstance(result, tuple) else result
         triangle_labels = np.asarray(segmentation.face_labels)
         if fixed is not None:
-            triangle_labels = fixed.face_labels_to_input(triangle_labels, state["arrays"][1])
+            triangle_labels = fixed.face_labels_to_input(triangle_labels)
         labels = regions.polygon_labels(obj.data, triangle_labels, state["tri_poly"])
         with bridge.object_mode(context, obj):
             regions.write_labels(obj.data, labels)

@@ -146,11 +146,30 @@ def test_sphere_on_an_open_mesh_fails_in_plain_words_and_writes_nothing(cli, tmp
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=6, y_subdivisions=6)
     src, out = tmp_path / "grid.obj", tmp_path / "grid_sphere.blend"
     export(src)
-    proc = run_cli(cli, tmp_path, "sphere", src, out)
+    proc = run_cli(cli, tmp_path, "sphere", src, out, "--no-repair")
     assert proc.returncode == 1, output(proc)
-    assert ("paramorph sphere: error: Grid: mesh has 1 hole: close them (Fill Holes) first"
+    assert ("paramorph sphere: error: Grid: mesh has 1 hole: close them (Fill Holes) first, or turn on Repair"
             in proc.stderr), output(proc)
     assert "wrote" not in proc.stdout
+    assert not out.exists()
+
+
+def test_sphere_repairs_a_messy_obj_and_fails_plainly_on_a_handle(cli, tmp_path):
+    from test_repair import messy_sphere
+    messy_sphere()
+    src, out = tmp_path / "messy.obj", tmp_path / "messy_sphere.obj"
+    export(src)
+    proc = run_cli(cli, tmp_path, "sphere", src, out)
+    assert proc.returncode == 0, output(proc)
+    assert "repaired: merged" in proc.stdout and "filled" in proc.stdout, output(proc)
+    assert out.exists()
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    bpy.ops.mesh.primitive_torus_add()
+    src, out = tmp_path / "torus.obj", tmp_path / "torus_sphere.obj"
+    export(src)
+    proc = run_cli(cli, tmp_path, "sphere", src, out)
+    assert proc.returncode == 1 and "cannot remove handles" in proc.stderr, output(proc)
     assert not out.exists()
 
 

@@ -339,14 +339,17 @@ def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
     bpy.ops.mesh.select_all(action="SELECT")
     bpy.ops.mesh.flip_normals()
     bpy.ops.object.mode_set(mode="OBJECT")
-    select_pair(source, target)
-    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False)
-    assert status == {"FINISHED"}, report
-    assert "Octopus's faces pointed inwards: turned for the morph" in report, report
-    assert "Blob's faces" not in report
-    morph = bpy.context.view_layer.objects.active
-    end = coordinates(morph.data.shape_keys.key_blocks["Octopus"].data)
-    np.testing.assert_allclose(bbox(end), bbox(coordinates(target.data.vertices)), atol=1e-5)
+    for repair, note in ((False, "Octopus's faces pointed inwards: turned for the morph"),
+                         (True, "Octopus repaired: turned 1 inside-out part the right way out")):
+        select_pair(source, target)
+        status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", automatic=False,
+                                      repair=repair)
+        assert status == {"FINISHED"}, report
+        assert note in report, report
+        assert "Blob's faces" not in report and "Blob repaired" not in report
+        morph = bpy.context.view_layer.objects.active
+        end = coordinates(morph.data.shape_keys.key_blocks["Octopus"].data)
+        np.testing.assert_allclose(bbox(end), bbox(coordinates(target.data.vertices)), atol=1e-5)
 
 
 def test_pick_pins_picker_pins_the_vertices_under_the_rays_and_takes_them_back():
@@ -393,10 +396,10 @@ def test_a_mesh_with_a_hole_is_reported_by_name_and_nothing_is_added():
     grid = bpy.context.active_object
     select_pair(source, grid)
     objects_before = set(bpy.data.objects)
-    with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
-        bpy.ops.paramorph.morph_to(topology="MERGED")
-    with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole"):
-        bpy.ops.paramorph.preview_matches()
+    with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole.*, or turn on Repair"):
+        bpy.ops.paramorph.morph_to(topology="MERGED", repair=False)
+    with pytest.raises(RuntimeError, match=r"Grid: mesh has 1 hole.*, or turn on Repair"):
+        bpy.ops.paramorph.preview_matches(repair=False)
     assert set(bpy.data.objects) == objects_before
 
 

@@ -181,20 +181,20 @@ def test_rank_similar_shapes_lists_the_same_shape_first():
     twin.data.transform(mathutils.Matrix.Rotation(0.7, 4, "Z"))
     make_samples.build_blob(name="Blob", subdivisions=4)
     make_samples.build_octopus(name="Tripod", subdivisions=4, limbs=3)
-    bpy.ops.mesh.primitive_grid_add()  # open: listed as not comparable
-    open_grid = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add()  # a handle (Repair cannot remove it): listed as not comparable
+    torus = bpy.context.active_object
     bpy.context.view_layer.objects.active = reference
     assert bpy.ops.paramorph.rank_similar_shapes() == {"FINISHED"}
     listing = bpy.context.scene.paramorph_similar
     names = [item.object_name for item in listing]
     assert names[0] == "Twin", [(i.object_name, i.distance) for i in listing]
-    assert names[-1] == open_grid.name and listing[len(listing) - 1].distance == -1.0
-    assert "not closed" in listing[len(listing) - 1].note
+    assert names[-1] == torus.name and listing[len(listing) - 1].distance == -1.0
+    assert "genus 1" in listing[len(listing) - 1].note
     distances = [item.distance for item in listing][:-1]
     assert distances == sorted(distances) and distances[0] < 0.5 * distances[1]
 
-    bpy.context.view_layer.objects.active = open_grid
-    with pytest.raises(RuntimeError, match="hole"):
+    bpy.context.view_layer.objects.active = torus
+    with pytest.raises(RuntimeError, match="cannot remove handles"):
         bpy.ops.paramorph.rank_similar_shapes()
 
 

@@ -89,3 +89,73 @@ def test_a_handle_is_reported_as_something_repair_cannot_fix():
     bpy.ops.mesh.primitive_torus_add()
     with pytest.raises(RuntimeError, match="cannot remove handles"):
         bpy.ops.paramorph.sphere_map()
+
+
+def select_pair(source, target):
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj in (source, target))
+    bpy.context.view_layer.objects.active = target
+
+
+def messy_source_and_target():
+    import make_samples
+    source = messy_sphere()  # a UV sphere: it has a UV layer ("UVMap") to carry
+    source.vertex_groups.new(name="Top").add([v.index for v in source.data.vertices if v.co.z > 0.3],
+                                             1.0, "REPLACE")
+    target = make_samples.build_octopus(subdivisions=3, limbs=4)
+    target.location = (6.0, 0.0, 0.0)
+    select_pair(source, target)
+    return source, target
+
+
+def test_morph_to_keeps_the_messy_source_topology_and_moves_every_seam_copy_together(capfd):
+    source, target = messy_source_and_target()
+    V = coordinates(source.data.vertices)
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="KEEP", in_betweens=2)
+    assert status == {"FINISHED"}, report
+    assert f"{source.name} repaired: merged" in report
+    keys = source.data.shape_keys.key_blocks
+    end = coordinates(keys[target.name].data)
+    assert len(end) == len(V)
+    cube = V[:, 0] > 2.0
+    np.testing.assert_allclose(end[cube], V[cube], atol=1e-6)  # the part repair left out stays
+    seam = np.flatnonzero((np.abs(V[:, 1]) < 1e-6) & (V[:, 0] > 1e-6))
+    pairs = [(i, j) for i in seam for j in seam if i < j and np.linalg.norm(V[i] - V[j]) < 1e-6]
+    assert pairs and all(np.allclose(end[i], end[j]) for i, j in pairs)  # the seam does not tear open
+    assert np.ptp(end[~cube], axis=0).max() > 1.5 * np.ptp(V[~cube], axis=0).max()  # it became the octopus
+
+
+def test_morph_to_a_merged_topology_carries_uvs_and_groups_from_the_mended_source(capfd):
+    source, target = messy_source_and_target()
+    status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED", in_betweens=0)
+    assert status == {"FINISHED"}, report
+    morph = bpy.context.view_layer.objects.active
+    assert morph is not source and morph.data.shape_keys is not None
+    uv = np.empty(2 * len(morph.data.loops), dtype=np.float32)
+    morph.data.uv_layers["UVMap"].data.foreach_get("uv", uv)
+    assert np.isfinite(uv).all() and uv.min() >= -1e-6 and uv.max() <= 1 + 1e-6
+    assert "Top" in morph.vertex_groups
+
+
+def test_preview_matches_stores_pairs_on_the_objects_own_vertices_and_a_pin_on_a_dropped_part_is_refused(capfd):
+    source, target = messy_source_and_target()
+    status, report = run_reported(capfd, bpy.ops.paramorph.preview_matches)
+    assert status == {"FINISHED"}, report
+    matches = bpy.context.scene.paramorph_matches
+    for pair in matches.pairs:
+        assert 0 <= pair.vertex_a < len(source.data.vertices) and 0 <= pair.vertex_b < len(target.data.vertices)
+    cube_vertex = int(np.flatnonzero(coordinates(source.data.vertices)[:, 0] > 2.0)[0])
+    assert bpy.ops.paramorph.add_pin(vertex_a=cube_vertex, vertex_b=0) == {"FINISHED"}
+    with pytest.raises(RuntimeError, match="Repair leaves out"):
+        bpy.ops.paramorph.morph_to(topology="MERGED")
+
+
+def test_rank_similar_shapes_compares_a_messy_mesh_after_repair():
+    import make_samples
+    blob = make_samples.build_blob(subdivisions=3)
+    messy = messy_sphere()
+    for repair, comparable in ((False, False), (True, True)):
+        bpy.context.view_layer.objects.active = blob
+        assert bpy.ops.paramorph.rank_similar_shapes(repair=repair) == {"FINISHED"}
+        listing = {item.object_name: item for item in bpy.context.scene.paramorph_similar}
+        assert (listing[messy.name].distance >= 0) == comparable, listing[messy.name].note
