@@ -87,7 +87,9 @@ void bind_sphere(py::module_& m) {
                              [](const SphereMapResult& r) { return to_numpy(r.energy_history); },
                              "spring energy of the start and after each outer iteration")
       .def_readonly("energy_increased", &SphereMapResult::energy_increased)
-      .def_readonly("stop_reason", &SphereMapResult::stop_reason)
+      .def_readonly("stop_reason", &SphereMapResult::stop_reason,
+                    "\"converged\", \"max_outer_iterations\", \"fold\", \"energy\" or \"inner_stalled\"\n"
+                    "(the last solve did not reach tol: Jacobi on a mesh it does not converge on)")
       .def_readonly("relaxation_sweeps", &SphereMapResult::relaxation_sweeps)
       .def_property_readonly("area_stretch",
                              [](const SphereMapResult& r) { return to_numpy(r.area_stretch); },

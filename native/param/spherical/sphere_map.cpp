@@ -152,7 +152,9 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
     const double decrease = (energy - next_energy) / energy;
     energy = next_energy;
     if (decrease < options.outer_tol) {
-      result.stop_reason = "converged";
+      // "converged" only when the last solve met tol; a stalled one (Jacobi
+      // on a mesh it does not converge on) says so.
+      result.stop_reason = step.converged ? "converged" : "inner_stalled";
       break;
     }
   }

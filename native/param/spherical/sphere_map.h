@@ -52,7 +52,10 @@ struct SphereMapResult {
   std::vector<int> inner_per_outer;
   std::vector<double> energy_history;  ///< spring energy of the start and after each outer step
   bool energy_increased = false;     ///< a step raised the energy (then it was rejected)
-  std::string stop_reason;           ///< "converged", "max_outer_iterations", "fold", "energy"
+  /// "converged", "max_outer_iterations", "fold", "energy", or "inner_stalled"
+  /// (the energy stopped falling but the last solve did not reach tol: Jacobi
+  /// on a mesh it does not converge on; fold-free all the same).
+  std::string stop_reason;
   int relaxation_sweeps = 0;         ///< centroid-relaxation sweeps spent on the start
   VectorXd area_stretch;             ///< #V, Def. 3.1
   std::string weights, solver, backend, device, backend_note;
