@@ -61,6 +61,12 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
                InvalidInputError, "weights must be ", V.rows(),
                " finite non-negative numbers, one per vertex, not all 0");
   }
+  // The maximiser does not change with a positive scale of the weights, but
+  // the barrier's mu and Ipopt's tolerances are set for weights near 1:
+  // weights of 1e200 left the feasible set. Solve with the largest at 1 and
+  // report the objectives in the caller's scale.
+  const double weight_scale = weights.maxCoeff();
+  weights /= weight_scale;
   MatrixX3d start = sphere.rowwise().normalized();
   const VectorXd start_det = face_triple_products(start, F);
   // Long protrusions squeeze a conformal map's faces to triple products of
@@ -100,7 +106,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   result.epsilon = o.epsilon * mean_det;
   if (start_det.minCoeff() > kTripleRoundoff) result.epsilon = std::min(result.epsilon, 0.5 * start_det.minCoeff());
   SphereMapNlp nlp(mesh, pull);
-  result.start_objective = -nlp.objective(start.data());
+  result.start_objective = -weight_scale * nlp.objective(start.data());
   if (progress) progress->report(0.0, "optimize sphere map");
 
   // Warm start (sphere_map_barrier): the log-barrier path from mu = mean
@@ -194,7 +200,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   const VectorXd det = face_triple_products(result.positions, F);
   result.min_triple = det.minCoeff();
   result.flipped = paramorph::Index((det.array() <= 0).count());
-  result.objective = -nlp.objective(result.positions.data());
+  result.objective = -weight_scale * nlp.objective(result.positions.data());
   if (progress) progress->report(1.0, "optimize sphere map");
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;

@@ -65,3 +65,17 @@ def test_align_sphere_map_refuses_a_zero_target_and_bad_weights():
         pm.align_sphere_map(V, F, sphere, vertices, targets)
     with pytest.raises(pm.InvalidInputError, match="positive and finite"):
         pm.align_sphere_map(V, F, sphere, vertices, sphere[vertices], weights=[1.0, NAN])
+
+
+@pytest.mark.parametrize("solver", ["barrier"] + (["ipopt"] if pm.build_info()["ipopt"] else []))
+@pytest.mark.parametrize("scale", [1e300, 1e-300])
+def test_optimize_sphere_map_with_huge_or_tiny_weights_solves_as_with_ones(scale, solver):
+    # The maximiser does not change with the weights' scale; 1e300 left the
+    # feasible set ("ComputeError: sphere_map_barrier: left the feasible set").
+    V, F = BLOB
+    sphere = pm.sphere_map(V, F).positions
+    ones = pm.optimize_sphere_map(V, F, sphere, solver=solver)
+    scaled = pm.optimize_sphere_map(V, F, sphere, solver=solver, weights=np.full(len(V), scale))
+    assert scaled.min_triple > 0 and np.isfinite(scaled.objective)
+    assert np.abs(np.asarray(scaled.positions) - np.asarray(ones.positions)).max() < 1e-4
+    assert scaled.objective == pytest.approx(scale * ones.objective, rel=1e-6)
