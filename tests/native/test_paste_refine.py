@@ -139,3 +139,17 @@ def test_refine_region_keeps_genus_and_isolated_vertices():
     loose = len(V) - 1
     assert r.base_face[loose] == -1
     assert np.array_equal(r.limit[loose], V[loose]) and not r.limit_normal[loose].any()
+
+
+def test_refining_next_to_a_vertex_of_valence_2000_is_sound():
+    # The limit of every vertex of a fan went through the O(valence^2) patch
+    # of a face at the pole: 35 s here before vertex limits came from their masks.
+    n = 2000
+    angle = np.arange(n) * 2 * np.pi / n
+    V = np.vstack([np.c_[np.cos(angle), np.sin(angle), 0.05 * np.sin(5 * angle)], [[0, 0, 1], [0, 0, -1]]])
+    F = np.array([[i, (i + 1) % n, n] for i in range(n)] + [[(i + 1) % n, i, n + 1] for i in range(n)], np.int32)
+    r = pm.refine_region(V, F, [0, 1, 2], level=2)
+    assert pm.validate(r.V, r.F).is_closed_genus0
+    limit = np.asarray(r.limit)
+    assert np.isfinite(limit).all() and np.isfinite(np.asarray(r.limit_normal)).all()
+    assert np.abs(limit[:n, 2]).max() < 0.05  # the ring's limit stays near the ring
