@@ -25,8 +25,8 @@ namespace paramorph::paste {
 
 /// mesh: the source mesh; patch: selection_patch(mesh, ...).
 /// Returns #Vs by 3 base positions, row i for local vertex i of the patch
-/// (boundary rows equal the source positions exactly). Solved with Eigen's
-/// sparse LDLᵀ (one factorisation, three right-hand sides).
+/// (boundary rows equal the source positions exactly). Solved with CHOLMOD's
+/// supernodal Cholesky (one factorisation, three right-hand sides).
 MatrixX3d base_surface(const TriMesh& mesh, const SelectionPatch& patch);
 
 }  // namespace paramorph::paste

@@ -86,6 +86,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   const TriMesh mesh(V, F);
   const MeshReport report = validate(mesh);
   require_manifold(report);  // before the selection, whose edge walks need a manifold
+  if (progress) progress->report(0.01, "selection");
   SelectionPatch patch = selection_patch(mesh, feature_faces);
   require_sound_selection(report, patch);
   const Index n = Index(patch.vertices.size());
@@ -117,6 +118,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   mo.backend = o.backend;
   mo.init = planar::PlanarInit::Given;
   {
+    if (progress) progress->report(0.03, "base map start");
     const TriMesh base_mesh(base, patch.F);
     MatrixX2d start = planar::lscm_map(base_mesh);
     double area3 = 0, area2 = 0;

@@ -35,7 +35,8 @@ MatrixX2d harmonic_fill(const TriMesh& mesh, const VectorXd& w, const std::vecto
   for (Index v : free.vertices)
     for (Index k = nbr.begin(v); k < nbr.end(v); ++k)
       if (pinned[nbr.items[k]]) rhs.row(free.slot[v]) += w[nbr_edges.items[k]] * X.row(nbr.items[k]);
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> solver(free_laplacian(mesh, w, free));
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, FillReducingOrdering<int>> solver(
+      free_laplacian(mesh, w, free));
   PM_REQUIRE(solver.info() == Eigen::Success, DisconnectedError,
              "the Tutte system is singular: a part of the mesh does not reach the boundary");
   const Eigen::MatrixXd Y = solver.solve(rhs);

@@ -148,6 +148,9 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   check_pins(o.soft, o.soft_uv, n, "soft");
 
   PlanarMapResult result;
+  // Reports between the steps of the start (each a sparse solve or two), so
+  // progress and cancel come every fraction of a second on big patches.
+  if (progress) progress->report(0.01, "factors");
   const IsometricFactors factors = isometric_factors(V, F);
   const auto kernels = compute::select_backend(
       o.backend, [&] { return make_cpu_isometric_kernels(mesh, factors); },
@@ -158,6 +161,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
   const double surface_area = factors.area.sum();
 
   // Start.
+  if (progress) progress->report(0.02, "start map");
   PlanarInit init = o.init;
   if (init == PlanarInit::Auto) init = o.initial_uv ? PlanarInit::Given : PlanarInit::Free;
   MatrixX2d uv;
@@ -181,6 +185,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
     fixed[o.pinned[k]] = 1;
   }
   if (!o.pinned.empty()) {
+    if (progress) progress->report(0.03, "pins");
     // Bring the start to the pins: first as a whole (least-squares similarity,
     // so its scale and orientation match theirs), then each pin exactly by
     // the smoothest displacement field. With the whole boundary pinned a
@@ -194,6 +199,7 @@ PlanarMapResult isometric_map(const MatrixX3d& V, const MatrixX3i& F, const Plan
       for (Index v = 0; v < n; ++v)
         if (on_boundary[v]) uv.row(v) = targets.row(v);
       uv = harmonic_fill(mesh, clamped_cotangent_weights(mesh), on_boundary, uv);
+      if (progress) progress->report(0.04, "pins");
     }
     uv = blend_pins(mesh, uv, fixed, targets);
   }
