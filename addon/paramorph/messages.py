@@ -1,5 +1,7 @@
 """Native errors in plain words for Blender reports: what is wrong with the
 mesh and the Blender tool that fixes it, instead of a traceback."""
+import numpy as np
+
 from .native import native
 
 
@@ -19,6 +21,16 @@ def describe(error, V=None, F=None, repair=None):
     return text
 
 
+def _coincident_vertices(V, F):
+    """How many vertices the faces use that lie exactly on another one
+    (seams split on export): what makes a welded-looking mesh open or in parts."""
+    if V is None or F is None or len(F) == 0:
+        return 0
+    used = np.unique(np.asarray(F).ravel())
+    points = np.ascontiguousarray(np.asarray(V)[used])
+    return len(points) - len(np.unique(points, axis=0))
+
+
 def _describe(error, V, F, repair):
     pm = native
     if pm is None:
@@ -34,6 +46,12 @@ def _describe(error, V, F, repair):
     selection = _selection_message(pm, error)
     if selection is not None:
         return selection
+    if isinstance(error, (pm.NotClosedError, pm.DisconnectedError, pm.NonManifoldError)):
+        coincident = _coincident_vertices(V, F)
+        if coincident:
+            vertices = "1 vertex" if coincident == 1 else f"{coincident} vertices"
+            return (f"mesh has {vertices} lying on other vertices (seams split on export), "
+                    "so it looks open or in parts: Mesh > Clean Up > Merge by Distance")
     if isinstance(error, pm.NotClosedError):
         holes = report.boundary_loops if report is not None else None
         head = f"mesh has {_count(holes, 'hole')}" if holes else "mesh is not closed"
