@@ -182,3 +182,11 @@ def test_progress_reports_and_cancels():
     assert reports[0] == (0.0, "welding") and reports[-1] == (1.0, "repaired")
     with pytest.raises(pm.Cancelled):
         pm.repair(V, F, progress=lambda f, s: False)
+
+
+def test_a_pillow_is_not_closed_into_a_two_sided_triangle():
+    # Two faces on the same three vertices: one is a duplicate, the other a
+    # lone triangle that no fill can close (it would be the pillow again).
+    r = pm.repair(np.eye(3), np.array([[0, 1, 2], [0, 2, 1]]))
+    assert r.report.duplicate_faces_removed == 1 and r.report.single_faces_left_open == 1
+    assert len(r.F) == 1 and not pm.validate(r.V, r.F).is_closed_genus0

@@ -52,6 +52,10 @@ CHILD = textwrap.dedent(r"""
     call("balanced_sphere_map", lambda: pm.balanced_sphere_map(V, F), lambda r: unit(r.positions))
     call("morph", lambda: pm.morph(V, F, V * 2.0, F),
          lambda m: len(m.faces) >= len(F) and np.isfinite(np.asarray(m.target)).all())
+    call("repair", lambda: pm.repair(V, F), lambda r: pm.validate(r.V, r.F).is_closed_genus0)
+    call("repair of one face", lambda: pm.repair(V, F[:1]), lambda r: len(r.F) == 1)
+    call("repair of two faces", lambda: pm.repair(V, F[:2]), lambda r: pm.validate(r.V, r.F).is_closed_genus0)
+    call("repair inside out", lambda: pm.repair(V, F[:, ::-1]), lambda r: r.report.parts_turned_outward == 1)
     print("RESULT " + json.dumps(out))
 """)
 
