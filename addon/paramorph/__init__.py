@@ -14,24 +14,12 @@ bl_info = {
 
 
 _CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
-                  "ops_morph", "ops_pins", "ops_paste", "panels", "overlay")
+                  "ops_morph", "ops_pins", "ops_paste", "menus", "panels", "overlay")
 
 
 def _modules():
     import importlib
     return [importlib.import_module(f".{name}", __package__) for name in _CLASS_MODULES]
-
-
-def _menu_entries(self, context):
-    layout = self.layout
-    layout.separator()
-    layout.operator("paramorph.sphere_map")
-    layout.operator("paramorph.segment_extremities")
-    layout.operator("paramorph.detect_feature_regions")
-    layout.operator("paramorph.pick_pins")
-    layout.operator("paramorph.preview_matches")
-    layout.operator("paramorph.morph_to")
-    layout.operator("paramorph.paste_feature")
 
 
 def register():
@@ -49,14 +37,12 @@ def register():
             bpy.utils.register_class(cls)
         if hasattr(module, "register"):
             module.register()
-    bpy.types.VIEW3D_MT_object.append(_menu_entries)
 
 
 def unregister():
     import bpy
 
     from . import properties
-    bpy.types.VIEW3D_MT_object.remove(_menu_entries)
     for module in reversed(_modules()):
         if hasattr(module, "unregister"):
             module.unregister()

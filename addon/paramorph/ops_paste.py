@@ -393,19 +393,5 @@ def _surface_under_mouse(context, obj, bvh, event):
     return None if location is None else np.array(location, dtype=np.float64)
 
 
-def _menu_entries(self, context):
-    layout = self.layout
-    layout.separator()
-    layout.operator(PARAMORPH_OT_copy_feature.bl_idname)
-    layout.operator(PARAMORPH_OT_paste_feature.bl_idname)
-
-
 classes = (PARAMORPH_OT_copy_feature, PARAMORPH_OT_paste_feature)
 
-
-def register():
-    bpy.types.VIEW3D_MT_edit_mesh.append(_menu_entries)
-
-
-def unregister():
-    bpy.types.VIEW3D_MT_edit_mesh.remove(_menu_entries)

@@ -236,3 +236,36 @@ def test_the_backend_preference_chooses_where_the_solver_runs():
         prefs.backend = "auto"
     assert reports == ["cpu"]
     assert "Sphere" in obj.data.uv_layers
+
+
+class _RecordingLayout:
+    """Stands in for a UILayout: records what a menu's draw() puts in it."""
+
+    def __init__(self):
+        self.operators, self.menus = [], []
+
+    def operator(self, idname, **_):
+        self.operators.append(idname)
+
+    def menu(self, idname, **_):
+        self.menus.append(idname)
+
+    def separator(self):
+        pass
+
+
+def test_one_paramorph_submenu_in_the_object_and_edit_mesh_menus():
+    import types
+    from paramorph import menus
+    for host, entry, submenu in ((bpy.types.VIEW3D_MT_object, "_object_menu", menus.PARAMORPH_MT_object),
+                                 (bpy.types.VIEW3D_MT_edit_mesh, "_edit_mesh_menu", menus.PARAMORPH_MT_edit_mesh)):
+        names = [f.__name__ for f in host._dyn_ui_initialize()]
+        assert names.count(entry) == 1 and "_menu_entries" not in names
+        layout = _RecordingLayout()
+        getattr(menus, entry)(types.SimpleNamespace(layout=layout), bpy.context)
+        assert layout.menus == [submenu.bl_idname] and layout.operators == []
+        layout = _RecordingLayout()
+        submenu.draw(types.SimpleNamespace(layout=layout), bpy.context)
+        assert layout.operators and submenu.bl_label == "Paramorph"
+        for idname in layout.operators:  # every entry is a registered operator
+            assert getattr(bpy.ops.paramorph, idname.split(".")[1]).get_rna_type().name

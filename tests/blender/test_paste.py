@@ -110,7 +110,7 @@ def test_copy_and_paste_are_registered_undoable_and_in_the_menus():
     names = {p.identifier for p in bpy.ops.paramorph.paste_feature.get_rna_type().properties}
     assert {"location", "rotation", "scale", "blend_radius", "subdivision_level", "basis", "fit"} <= names
     draw_funcs = [f.__name__ for f in bpy.types.VIEW3D_MT_edit_mesh._dyn_ui_initialize()]
-    assert "_menu_entries" in draw_funcs
+    assert "_edit_mesh_menu" in draw_funcs
 
 
 def test_copy_feature_stores_a_feature_that_survives_save_and_reload(tmp_path):
