@@ -26,6 +26,9 @@ class MorphOutcome:
     # already back on A's own vertices.
     repaired_a: object = None
     repaired_b: object = None
+    # The merged topology's Basis (result.source) in the source object's own
+    # coordinates; None when the topology is kept.
+    source: object = None
 
 
 def key_times(in_betweens):
@@ -34,12 +37,14 @@ def key_times(in_betweens):
 
 
 def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpolation="ARAP",
-                           target_transform=None, keep_topology=False, repair=False, **options):
+                           target_transform=None, to_local=None, keep_topology=False, repair=False, **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
     the merged mesh, or with keep_topology of A's own mesh (the target sampled
     at A's vertices through the correspondence, and its distance to B).
-    target_transform: 4 x 4 taking the target's coordinates to the source's
-    (the morph ends where the target object is), or None. repair: mend both
+    target_transform: 4 x 4 applied to the target's positions at the end (the
+    morph ends where the target object is), or None. to_local: 3 x 3 taking
+    the positions computed on to the source object's own coordinates (the
+    inverse of its transform's linear part), or None. repair: mend both
     meshes first (repair_mesh; pins and pairs are carried onto the mended
     meshes). progress(fraction, stage) -> False cancels (native.Cancelled),
     also between in-betweens."""
@@ -68,8 +73,13 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
         target = target @ M[:3, :3].T + M[:3, 3]
     # A kept topology's shapes go back onto A's own vertices; the ones repair
     # left out (loose, a smaller part) stay where they are.
-    back = (lambda X: fixed_a.to_input(X, VA_in)) if keep_topology and fixed_a is not None else (lambda X: X)
+    def back(X):
+        if keep_topology and fixed_a is not None:
+            X = fixed_a.to_input(X, VA_in)
+        return X if to_local is None else X @ np.asarray(to_local, dtype=np.float64).T
     outcome.target = back(target)
+    if not keep_topology:
+        outcome.source = back(source)
     times = key_times(in_betweens)[:-1]
     if not times:
         return outcome

@@ -173,13 +173,15 @@ def _animate(obj, frame_start, frame_end, easing):
 
 
 def build(context, name, source, result, target_positions, shapes, *, tri_poly, tri_loops,
-          target_name="Target", frame_start=1, frame_end=48, easing=True):
+          target_name="Target", frame_start=1, frame_end=48, easing=True, source_positions=None):
     """A new object `name` on the merged topology of `result` (paramorph_native.Morph),
     placed like `source` and linked to its collections: Basis = result.source,
     keys "<target_name> 25%"... (the in-between `shapes`, evenly spaced) and
     `target_name` = target_positions, driven by the object's morph property,
-    which is keyframed from frame_start to frame_end. Returns the object."""
-    source_positions = np.asarray(result.source)
+    which is keyframed from frame_start to frame_end. source_positions: the
+    Basis in the source object's coordinates (default result.source). Returns
+    the object."""
+    source_positions = np.asarray(result.source if source_positions is None else source_positions)
     mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
     _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
     obj = bpy.data.objects.new(name, mesh)

@@ -42,6 +42,18 @@ def _arrays(context, obj):
         return bridge.mesh_arrays(obj.data, polygons=True, loops=True)
 
 
+def linear_part(obj):
+    """The 3 x 3 rotation and scale of an object's transform (no translation)."""
+    return np.array(obj.matrix_world, dtype=np.float64)[:3, :3]
+
+
+def as_placed(V, obj):
+    """An object's vertices turned and scaled as the scene shows them, about its
+    origin: what the morph compares (a target scaled x9 and turned 45 deg is
+    morphed to as it looks, issue 20)."""
+    return V @ linear_part(obj).T
+
+
 # --- the scene's pins and pairs ------------------------------------------------------
 
 def belongs_to(matches, source, target):
@@ -252,6 +264,7 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
         pins, _ = constraints(context, source, target, use_pairs=False)
         VA, FA, _, _ = _arrays(context, source)
         VB, FB, _, _ = _arrays(context, target)
+        VA, VB = as_placed(VA, source), as_placed(VB, target)
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "pins": pins}
         options = dict(self.correspondence_options(), pins=pins, repair=self.repair)
@@ -460,14 +473,20 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         pins, pairs = constraints(context, source, target, use_pairs=self.use_preview and self.automatic)
         VA, FA, tri_poly, tri_loops = _arrays(context, source)
         VB, FB, _, _ = _arrays(context, target)
+        # Computed with each object's rotation and scale applied, about its
+        # origin; the keys go back into the source's own coordinates.
+        VA, VB = as_placed(VA, source), as_placed(VB, target)
         keep = self.topology == "KEEP" or (self.topology == "AUTO" and keeps_topology(source))
         options = dict(self.correspondence_options(), automatic=self.automatic, pins=pins,
                        in_betweens=self.in_betweens, interpolation=self.interpolation, keep_topology=keep,
                        repair=self.repair)
         if pairs is not None:
             options["pairs"] = pairs
-        if self.placement == "TARGET":
-            options["target_transform"] = np.array(source.matrix_world.inverted() @ target.matrix_world)
+        options["to_local"] = np.linalg.inv(linear_part(source))
+        if self.placement == "TARGET":  # the offset between the two origins, in the scene
+            offset = np.eye(4)
+            offset[:3, 3] = np.array(target.matrix_world.translation) - np.array(source.matrix_world.translation)
+            options["target_transform"] = offset
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": tri_poly, "tri_loops": tri_loops,
                  "previewed": pairs is not None}
@@ -490,7 +509,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
             tri_poly, tri_loops = outcome.repaired_a.triangle_maps(tri_poly, tri_loops)
         obj = morph_object.build(
             context, f"{source.name} to {target.name}", source, result, outcome.target, outcome.shapes,
-            tri_poly=tri_poly, tri_loops=tri_loops, target_name=target.name,
+            tri_poly=tri_poly, tri_loops=tri_loops, target_name=target.name, source_positions=outcome.source,
             frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE")
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)

@@ -206,6 +206,31 @@ def test_target_placement_ends_where_the_target_is():
     np.testing.assert_allclose(bbox(world), bbox(target_world), atol=1e-4)
 
 
+@pytest.mark.parametrize("topology", ["MERGED", "KEEP"])
+def test_morph_to_respects_both_objects_rotation_and_scale(topology):
+    # A target scaled x3 and turned 45 deg, a source scaled x2 and moved: the
+    # morph ends at the target as it looks (issue 20: it ended at the
+    # unscaled, unturned target), in the source's place or in the target's.
+    import mathutils
+    source, target = morph_pair()
+    source.location, source.scale = (-2.0, 1.0, 0.5), (2.0, 2.0, 2.0)
+    target.rotation_euler, target.scale = (0.0, 0.0, 0.785398), (3.0, 3.0, 3.0)
+    bpy.context.view_layer.update()
+    looks = coordinates(target.data.vertices) @ np.array(target.matrix_world)[:3, :3].T
+    for placement, offset in (("SOURCE", np.array(source.location)), ("TARGET", np.array(target.location))):
+        select_pair(source, target)
+        assert bpy.ops.paramorph.morph_to(topology=topology, placement=placement, automatic=False,
+                                          in_betweens=0) == {"FINISHED"}
+        morph = bpy.context.view_layer.objects.active if topology == "MERGED" else source
+        end = coordinates(morph.data.shape_keys.key_blocks["Octopus"].data)
+        world = end @ np.array(morph.matrix_world)[:3, :3].T + np.array(morph.matrix_world)[:3, 3]
+        tolerance = 1e-4 * np.ptp(looks, axis=0).max() if topology == "MERGED" else 0.1 * np.ptp(looks, axis=0).max()
+        np.testing.assert_allclose(bbox(world), bbox(looks + offset), atol=tolerance)
+        if topology == "KEEP":  # the Basis is the source as it was
+            basis = coordinates(morph.data.shape_keys.key_blocks["Basis"].data)
+            np.testing.assert_allclose(basis, coordinates(morph.data.vertices), atol=1e-6)
+
+
 def test_a_pin_lands_exactly_on_its_partner(capfd):
     source, target = morph_pair()
     a, b = tip_pin(source, target)
