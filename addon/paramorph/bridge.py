@@ -36,6 +36,24 @@ def mesh_arrays(mesh, polygons=False, loops=False):
     return co.reshape(n, 3).astype(np.float64), F.reshape(m, 3), tri_poly, tri_loops
 
 
+def as_placed(V, obj):
+    """Vertices turned and scaled by the object's transform, about its origin:
+    what the operators compute on, so a mesh scaled unevenly in Object Mode is
+    mapped as it looks (issue 20). Results go back in the object's own
+    coordinates."""
+    return V @ np.array(obj.matrix_world, dtype=np.float64)[:3, :3].T
+
+
+def modifier_note(obj):
+    """'' or a sentence saying the computation used the mesh without its
+    (visible) modifiers, naming them."""
+    names = [m.name for m in obj.modifiers if m.show_viewport]
+    if not names:
+        return ""
+    return (f"{obj.name}: computed on the mesh without its modifiers ({', '.join(names)}); "
+            "apply them first to include them")
+
+
 def sphere_uv(mesh, positions):
     """Per-loop (u, v) from spherical coordinates, with the seam handled: a
     polygon whose u values span more than half the texture gets its small u

@@ -6,7 +6,7 @@ thread. Nothing is written unless the call succeeded, so a cancelled or
 failed run leaves the mesh exactly as it was."""
 import bpy
 
-from . import messages
+from . import bridge, messages
 from .jobs import NativeJob
 from .native import load_error, native
 
@@ -41,6 +41,11 @@ class NativeOperator:
             self.report(level, self.describe_error(job.error, state))
             return {"CANCELLED"}
         self.report({"INFO"}, self.finish(context, job.result, state))
+        for name in state.get("objects", ()) if isinstance(state, dict) else ():
+            obj = bpy.data.objects.get(name)
+            note = bridge.modifier_note(obj) if obj is not None else ""
+            if note:
+                self.report({"WARNING"}, note)
         return {"FINISHED"}
 
     def describe_error(self, error, state):

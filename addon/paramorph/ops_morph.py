@@ -47,11 +47,7 @@ def linear_part(obj):
     return np.array(obj.matrix_world, dtype=np.float64)[:3, :3]
 
 
-def as_placed(V, obj):
-    """An object's vertices turned and scaled as the scene shows them, about its
-    origin: what the morph compares (a target scaled x9 and turned 45 deg is
-    morphed to as it looks, issue 20)."""
-    return V @ linear_part(obj).T
+as_placed = bridge.as_placed  # a target scaled x9 and turned 45 deg is morphed to as it looks
 
 
 # --- the scene's pins and pairs ------------------------------------------------------
@@ -266,7 +262,7 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
         VB, FB, _, _ = _arrays(context, target)
         VA, VB = as_placed(VA, source), as_placed(VB, target)
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
-                 "arrays_target": (VB, FB), "pins": pins}
+                 "arrays_target": (VB, FB), "pins": pins, "objects": [source.name, target.name]}
         options = dict(self.correspondence_options(), pins=pins, repair=self.repair)
         return morph_job.correspondence, (VA, FA, VB, FB), options, state
 
@@ -489,7 +485,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
             options["target_transform"] = offset
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": tri_poly, "tri_loops": tri_loops,
-                 "previewed": pairs is not None}
+                 "previewed": pairs is not None, "objects": [source.name, target.name]}
         return morph_job.morph_with_in_betweens, (VA, FA, VB, FB), options, state
 
     def finish(self, context, outcome, state):

@@ -67,6 +67,7 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
         for obj in [active] + others:  # a handful of objects, not mesh elements
             with bridge.object_mode(context, obj):
                 V, F, _, _ = bridge.mesh_arrays(obj.data)
+            V = bridge.as_placed(V, obj)
             items.append((obj.name, sphere_cache.key(V, F), V, F))
         state = {"active": active.name, "arrays": (items[0][2], items[0][3])}
         return _signatures, (items,), {"backend": backend(context), "repair": self.repair}, state

@@ -18,7 +18,9 @@ class _Segmenter(NativeOperator):
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, tri_poly, _ = bridge.mesh_arrays(obj.data, polygons=True)
         repair = getattr(self, "repair", False)
-        state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly, "repaired": repair}
+        V = bridge.as_placed(V, obj)  # as the scene shows it (rotation, scale)
+        state = {"arrays": (V, F), "object": obj.name, "tri_poly": tri_poly, "repaired": repair,
+                 "objects": [obj.name]}
         function = repair_mesh.repaired_call(self.native_call()) if repair else self.native_call()
         return function, (V, F), self.native_options(V, F), state
 

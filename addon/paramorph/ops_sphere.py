@@ -29,14 +29,16 @@ class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
         obj = context.active_object
         with bridge.object_mode(context, obj):  # Edit Mode keeps the data in a BMesh
             V, F, _, _ = bridge.mesh_arrays(obj.data)
-        state = {"arrays": (V, F), "object": obj.name}
+        state = {"arrays": (V, F), "object": obj.name, "objects": [obj.name]}
         function = repair_mesh.repaired_call(native.sphere_map) if self.repair else native.sphere_map
-        return function, (V, F), {"weights": self.weights, "backend": backend(context)}, state
+        placed = bridge.as_placed(V, obj)
+        state["placed"] = placed
+        return function, (placed, F), {"weights": self.weights, "backend": backend(context)}, state
 
     def finish(self, context, result, state):
         V, F = state["arrays"]
         fixed, result = result if self.repair else (None, result)
-        computed_on = (fixed.V, fixed.F) if fixed is not None else (V, F)
+        computed_on = (fixed.V, fixed.F) if fixed is not None else (state["placed"], F)
         sphere_cache.put(sphere_cache.key(*computed_on, self.weights), result.positions)
         positions, mapped = result.positions, None
         if fixed is not None:

@@ -269,3 +269,25 @@ def test_one_paramorph_submenu_in_the_object_and_edit_mesh_menus():
         assert layout.operators and submenu.bl_label == "Paramorph"
         for idname in layout.operators:  # every entry is a registered operator
             assert getattr(bpy.ops.paramorph, idname.split(".")[1]).get_rna_type().name
+
+
+def test_a_modifier_is_named_as_left_out_of_the_computation(capfd):
+    obj = make_samples.build_blob(subdivisions=3)
+    obj.modifiers.new("Smooth It", "SUBSURF")
+    capfd.readouterr()
+    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    out, err = capfd.readouterr()
+    assert "computed on the mesh without its modifiers (Smooth It); apply them first" in out + err
+
+
+def test_sphere_map_is_computed_on_the_object_as_it_looks():
+    # A sphere squashed by its object's scale is an ellipsoid on screen: the
+    # conformal map of the ellipsoid differs from that of the sphere.
+    obj = make_samples.build_blob(subdivisions=3)
+    assert bpy.ops.paramorph.sphere_map(shape_key=False) == {"FINISHED"}
+    plain = uv_array(obj.data, "Sphere")
+    obj.scale = (1.0, 1.0, 0.2)
+    bpy.context.view_layer.update()
+    assert bpy.ops.paramorph.sphere_map(shape_key=False) == {"FINISHED"}
+    squashed = uv_array(obj.data, "Sphere")
+    assert np.abs(squashed - plain).max() > 0.01
