@@ -6,7 +6,7 @@ thread. Nothing is written unless the call succeeded, so a cancelled or
 failed run leaves the mesh exactly as it was."""
 import bpy
 
-from . import bridge, messages
+from . import bridge, messages, poll_reasons
 from .jobs import NativeJob
 from .native import load_error, native
 
@@ -22,8 +22,7 @@ class NativeOperator:
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH"
+        return poll_reasons.one_mesh(cls, context)
 
     def _prepare_or_report(self, context):
         if native is None:

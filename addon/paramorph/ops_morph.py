@@ -17,7 +17,7 @@ succeeded."""
 import bpy
 import numpy as np
 
-from . import bridge, messages, morph_job, morph_object, overlay, repair_mesh
+from . import bridge, messages, morph_job, morph_object, overlay, poll_reasons, repair_mesh
 from .native import native
 from .native_operator import NativeOperator, UserError
 
@@ -29,12 +29,6 @@ def two_objects(context):
     if target is None or target.type != "MESH" or len(others) != 1 or others[0].type != "MESH":
         raise UserError("select two mesh objects: the source, then the target (active, selected last)")
     return others[0], target
-
-
-def poll_two(context):
-    target = context.active_object
-    return (target is not None and target.type == "MESH" and len(context.selected_objects) == 2
-            and all(o.type == "MESH" for o in context.selected_objects))
 
 
 def _arrays(context, obj):
@@ -217,7 +211,7 @@ class CorrespondenceSettings:
 class _TwoMeshes(NativeOperator):
     @classmethod
     def poll(cls, context):
-        return poll_two(context)
+        return poll_reasons.two_meshes(cls, context)
 
     def describe_error(self, error, state):
         # The native side names the mesh ("mesh A: ..."/"mesh B: ..."): report it by object.
@@ -332,7 +326,7 @@ class PARAMORPH_OT_add_pin(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_two(context)
+        return poll_reasons.two_meshes(cls, context)
 
     def execute(self, context):
         try:
@@ -361,7 +355,8 @@ class PARAMORPH_OT_remove_pair(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return len(context.scene.paramorph_matches.pairs) > 0
+        return len(context.scene.paramorph_matches.pairs) > 0 or poll_reasons.refuse(
+            cls, "The list has no pins or pairs: Pick Pins or Preview Matches first")
 
     def execute(self, context):
         matches = context.scene.paramorph_matches
@@ -383,7 +378,8 @@ class PARAMORPH_OT_clear_pins(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return any(p.pin for p in context.scene.paramorph_matches.pairs)
+        return any(p.pin for p in context.scene.paramorph_matches.pairs) or poll_reasons.refuse(
+            cls, "There are no pins to clear")
 
     def execute(self, context):
         matches = context.scene.paramorph_matches

@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 from mathutils.bvhtree import BVHTree
 
-from . import bridge, feature_store, messages, paste_mesh, paste_preview, regions, view_ray
+from . import bridge, feature_store, messages, paste_mesh, paste_preview, poll_reasons, regions, view_ray
 from .jobs import NativeJob
 from .native import load_error, native
 from .native_operator import NativeOperator, UserError
@@ -39,8 +39,7 @@ class PARAMORPH_OT_copy_feature(NativeOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and obj.mode == "EDIT"
+        return poll_reasons.one_mesh(cls, context, {"EDIT"})
 
     def prepare(self, context):
         obj = context.active_object
@@ -191,8 +190,7 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and obj.mode in {"OBJECT", "EDIT"}
+        return poll_reasons.one_mesh(cls, context, {"OBJECT", "EDIT"})
 
     # -- shared -----------------------------------------------------------------------
 

@@ -15,9 +15,9 @@ import numpy as np
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from . import bridge, overlay, view_ray
+from . import bridge, overlay, poll_reasons, view_ray
 from .native_operator import UserError
-from .ops_morph import add_pin, claim, poll_two, restore, snapshot, two_objects
+from .ops_morph import add_pin, claim, restore, snapshot, two_objects
 
 SIDES = ("source", "target")
 
@@ -169,7 +169,9 @@ class PARAMORPH_OT_pick_pins(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return poll_two(context) and context.mode == "OBJECT"
+        if not poll_reasons.two_meshes(cls, context):
+            return False
+        return context.mode == "OBJECT" or poll_reasons.refuse(cls, "Works in Object Mode: press Tab to switch")
 
     def execute(self, context):  # scripts, -b, repeat last: there is no mouse to pick with
         self.report({"ERROR"}, _WHERE)

@@ -4,7 +4,7 @@ growing or shrinking the selection a region at a time. They read the
 import bpy
 import numpy as np
 
-from . import bridge, regions, view_ray
+from . import bridge, poll_reasons, regions, view_ray
 
 
 def _labels_or_report(operator, obj):
@@ -19,8 +19,7 @@ def _labels_or_report(operator, obj):
 class _RegionSelection:
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH"
+        return poll_reasons.one_mesh(cls, context)
 
 
 class PARAMORPH_OT_select_region(_RegionSelection, bpy.types.Operator):

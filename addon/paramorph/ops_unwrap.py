@@ -5,7 +5,7 @@ constraints and stay exactly where they are. Writes the active UV layer
 import bpy
 import numpy as np
 
-from . import bridge, uv_patch
+from . import bridge, poll_reasons, uv_patch
 from .native import native
 from .native_operator import NativeOperator, UserError
 from .preferences import backend
@@ -43,8 +43,7 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and obj.mode == "EDIT"
+        return poll_reasons.one_mesh(cls, context, {"EDIT"})
 
     def prepare(self, context):
         obj = context.active_object

@@ -25,6 +25,9 @@ class PARAMORPH_PT_main(bpy.types.Panel):
             row = layout.row(align=True)
             row.label(text=f"{job.stage} {100 * job.fraction:.0f}%", icon="SORTTIME")
             row.operator("paramorph.cancel_jobs", text="", icon="CANCEL")
+        obj = context.active_object
+        if obj is None or obj.type != "MESH":  # what to do first
+            layout.label(text="Select a mesh object to start", icon="INFO")
         col = layout.column(align=True)
         col.label(text="Parameterize")
         col.operator("paramorph.sphere_map")
@@ -63,7 +66,9 @@ class PARAMORPH_PT_main(bpy.types.Panel):
     @staticmethod
     def draw_morph(context, layout):
         col = layout.column(align=True)
-        col.label(text="Morph (select source, then target)")
+        col.label(text="Morph")
+        if len(context.selected_objects) != 2:
+            col.label(text="Select source, then target", icon="INFO")
         col.operator("paramorph.pick_pins", icon="PINNED")
         col.operator("paramorph.preview_matches", icon="VIEWZOOM")
         matches = context.scene.paramorph_matches

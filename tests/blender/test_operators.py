@@ -291,3 +291,18 @@ def test_sphere_map_is_computed_on_the_object_as_it_looks():
     assert bpy.ops.paramorph.sphere_map(shape_key=False) == {"FINISHED"}
     squashed = uv_array(obj.data, "Sphere")
     assert np.abs(squashed - plain).max() > 0.01
+
+
+def test_a_greyed_operator_says_why():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    with pytest.raises(RuntimeError, match="Select a mesh object first"):
+        bpy.ops.paramorph.sphere_map()
+    make_samples.build_blob(subdivisions=2)
+    with pytest.raises(RuntimeError, match=r"Works in Edit Mode: press Tab"):
+        bpy.ops.paramorph.isometric_unwrap()
+    with pytest.raises(RuntimeError, match=r"Select two mesh objects: click the source, then Shift\+click the target "
+                                           r"\(1 selected now\)"):
+        bpy.ops.paramorph.morph_to()
+    with pytest.raises(RuntimeError, match="There are no pins to clear"):
+        bpy.ops.paramorph.clear_pins()
