@@ -46,7 +46,7 @@ def _describe(error, V, F, repair):
     selection = _selection_message(pm, error)
     if selection is not None:
         return selection
-    if isinstance(error, (pm.NotClosedError, pm.DisconnectedError, pm.NonManifoldError)):
+    if isinstance(error, (pm.NotClosedError, pm.DisconnectedError)):
         coincident = _coincident_vertices(V, F)
         if coincident:
             vertices = "1 vertex" if coincident == 1 else f"{coincident} vertices"
@@ -69,10 +69,16 @@ def _describe(error, V, F, repair):
         parts = report.components if report is not None and report.components > 1 else None
         head = f"mesh has {_count(parts, 'separate part')}" if parts else "mesh has separate parts"
         return f"{head}: separate them (Separate > By Loose Parts) or delete loose geometry first"
+    # The native messages already say what is wrong and how to select it: wrapped
+    # again they said "not manifold" twice.
     if isinstance(error, pm.NonManifoldError):
-        return f"mesh is not manifold ({error}): Select > All by Trait > Non Manifold shows where"
+        text = str(error)
+        return text if text.startswith("mesh ") else (
+            f"mesh is not manifold ({text}): Select > All by Trait > Non Manifold shows where")
     if isinstance(error, pm.DegenerateFaceError):
-        return f"mesh has zero-area faces ({error}): Mesh > Clean Up > Degenerate Dissolve fixes them"
+        text = str(error)
+        return text if text.startswith("mesh ") else (
+            f"mesh has zero-area faces ({text}): Mesh > Clean Up > Degenerate Dissolve fixes them")
     if isinstance(error, pm.ConstraintError):
         return f"the pinned UVs cannot all be met without folds ({error}): unpin or move some"
     if isinstance(error, pm.InvalidInputError):

@@ -160,3 +160,20 @@ def test_rank_similar_shapes_compares_a_messy_mesh_after_repair():
         assert bpy.ops.paramorph.rank_similar_shapes(repair=repair) == {"FINISHED"}
         listing = {item.object_name: item for item in bpy.context.scene.paramorph_similar}
         assert (listing[messy.name].distance >= 0) == comparable, listing[messy.name].note
+
+
+def test_a_non_manifold_message_says_it_once():
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
+    obj = bpy.context.active_object
+    bm = bmesh.new()
+    bm.from_mesh(obj.data)
+    bm.verts.ensure_lookup_table()
+    edge = next(e for e in bm.edges if len(e.link_faces) == 2)
+    tip = bm.verts.new((5.0, 5.0, 5.0))
+    bm.faces.new((edge.verts[0], edge.verts[1], tip))  # a fin: an edge with three faces
+    bm.to_mesh(obj.data)
+    bm.free()
+    with pytest.raises(RuntimeError) as raised:
+        bpy.ops.paramorph.sphere_map(repair=False)
+    text = str(raised.value)
+    assert text.count("not manifold") == 1 and "Non Manifold" in text, text
