@@ -60,6 +60,9 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   TriMesh mesh(V_in, F_in);
   require_closed_genus0(validate(mesh));  // on the input numbering, so errors name input indices
   clock.mark("validate");
+  // Reports between the setup steps too (each up to a second on 100k faces),
+  // so Esc acts within half a second (issue 20).
+  if (progress) progress->report(0.01, "reorder");
 
   // Locality: solve on a renumbered copy, map back at the end.
   Reordering order;
@@ -68,6 +71,7 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
     mesh = TriMesh(order.apply_to_vertices(V_in), order.apply_to_faces(F_in));
   }
   clock.mark("reorder");
+  if (progress) progress->report(0.02, "setup");
 
   const SpringGraph graph = build_spring_graph(mesh, edge_weights(mesh, options.weights));
   auto kernels = compute::select_backend(
@@ -87,6 +91,7 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   if (options.init != InitialMap::Relaxation || options.solver == InnerSolver::Pcg)
     laplacian = factor_punctured_laplacian(mesh, graph);
   clock.mark("factor");
+  if (progress) progress->report(0.05, "initial map");
   MatrixX3d X;
   if (options.init == InitialMap::Relaxation)
     X = radial_projection(mesh);
@@ -111,6 +116,7 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   const Index start_folds = kernels->count_flipped(X);
   PM_REQUIRE(start_folds == 0, ComputeError, "could not build a fold-free start: ", start_folds,
              " faces still folded after ", result.relaxation_sweeps, " relaxation sweeps");
+  if (progress) progress->report(0.09, "initial map");
   mobius_center(X, mesh.F(), vertex_areas(mesh));
   clock.mark("initial map");
 
