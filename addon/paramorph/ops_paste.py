@@ -164,11 +164,14 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
     location: bpy.props.FloatVectorProperty(
         name="Location", size=3, subtype="TRANSLATION",
         description="Where the feature goes, in the object's coordinates (snapped to the surface)")
+    # SKIP_SAVE: a new paste starts at the feature's own size and turn; the
+    # last run's scale, remembered by Blender, made the next paste fail
+    # where it did not fit (issue 20). The redo panel still shows them.
     rotation: bpy.props.FloatProperty(
-        name="Rotation", default=0.0, subtype="ANGLE",
+        name="Rotation", default=0.0, subtype="ANGLE", options={"SKIP_SAVE"},
         description="Turn about the surface normal (0: the feature's x along the object's x)")
     scale: bpy.props.FloatProperty(
-        name="Scale", default=1.0, min=1e-3, soft_min=0.1, soft_max=10.0,
+        name="Scale", default=1.0, min=1e-3, soft_min=0.1, soft_max=10.0, options={"SKIP_SAVE"},
         description="Size of the feature relative to the copied one")
     blend_radius: bpy.props.FloatProperty(
         name="Blend Radius", default=2.0, min=1.11, soft_max=6.0,

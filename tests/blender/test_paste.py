@@ -109,6 +109,9 @@ def test_copy_and_paste_are_registered_undoable_and_in_the_menus():
     # The redo panel mirrors the session's options.
     names = {p.identifier for p in bpy.ops.paramorph.paste_feature.get_rna_type().properties}
     assert {"location", "rotation", "scale", "blend_radius", "subdivision_level", "basis", "fit"} <= names
+    # Each new paste starts at the feature's own size and turn (not the last run's).
+    properties = bpy.ops.paramorph.paste_feature.get_rna_type().properties
+    assert properties["scale"].is_skip_save and properties["rotation"].is_skip_save
     draw_funcs = [f.__name__ for f in bpy.types.VIEW3D_MT_edit_mesh._dyn_ui_initialize()]
     assert "_edit_mesh_menu" in draw_funcs
 
