@@ -48,16 +48,21 @@ def _batches(obj):
     mesh.loop_triangles.foreach_get("vertices", tris)
     tri_poly = np.empty(len(mesh.loop_triangles), dtype=np.int32)
     mesh.loop_triangles.foreach_get("polygon_index", tri_poly)
-    # Lift the overlay off the surface a little so it does not z-fight.
+    # Lift the overlay off the surface a little so it does not z-fight, to
+    # both sides: where the normals point inwards (a file exported inside
+    # out) the outward copy is the one seen (issue 20: the horse's regions
+    # were only visible in X-ray); the other hides behind the surface.
     normals = np.empty(3 * len(mesh.vertices), dtype=np.float32)
     mesh.vertices.foreach_get("normal", normals)
     size = float(np.linalg.norm(co.max(axis=0) - co.min(axis=0))) if len(co) else 1.0
-    lifted = co + 2e-3 * size * normals.reshape(-1, 3)
+    lift = 2e-3 * size * normals.reshape(-1, 3)
+    lifted, sunk = co + lift, co - lift
 
     colors = regions.region_colors(int(labels.max()) + 1, alpha=0.45)
     corner_color = np.repeat(colors[labels[tri_poly]], 3, axis=0)
     shader = gpu.shader.from_builtin("SMOOTH_COLOR")
-    faces = batch_for_shader(shader, "TRIS", {"pos": lifted[tris], "color": corner_color})
+    faces = batch_for_shader(shader, "TRIS", {"pos": np.concatenate([lifted[tris], sunk[tris]]),
+                                              "color": np.concatenate([corner_color, corner_color])})
 
     loop_edge = np.empty(len(mesh.loops), dtype=np.int32)
     mesh.loops.foreach_get("edge_index", loop_edge)
@@ -73,7 +78,8 @@ def _batches(obj):
     np.minimum.at(edge_min, loop_edge, label_of_loop)
     np.maximum.at(edge_max, loop_edge, label_of_loop)
     border = np.flatnonzero((edge_max >= 0) & (edge_min != edge_max))
-    lines = lifted[edge_vertices.reshape(-1, 2)[border].ravel()]
+    ends = edge_vertices.reshape(-1, 2)[border].ravel()
+    lines = np.concatenate([lifted[ends], sunk[ends]])
     line_shader = gpu.shader.from_builtin("UNIFORM_COLOR")
     borders = batch_for_shader(line_shader, "LINES", {"pos": lines}) if len(border) else None
 
@@ -85,8 +91,9 @@ def _batches(obj):
         marked = np.flatnonzero(kinds != 0)
         if len(marked):
             colors = np.where(kinds[marked, None] > 0, [[0.1, 0.3, 1.0, 1.0]], [[1.0, 0.9, 0.1, 1.0]])
-            points = batch_for_shader(shader, "POINTS", {"pos": lifted[marked],
-                                                         "color": colors.astype(np.float32)})
+            colors = colors.astype(np.float32)
+            points = batch_for_shader(shader, "POINTS", {"pos": np.concatenate([lifted[marked], sunk[marked]]),
+                                                         "color": np.concatenate([colors, colors])})
     return shader, faces, line_shader, borders, points
 
 

@@ -72,6 +72,20 @@ def overlay_on():
     view3d()[1].tag_redraw()
 
 
+def turn_inside_out():
+    """Every face wound the other way (as some exporters write files): the
+    normals point inwards; the overlay must show all the same."""
+    import bmesh
+    obj = bpy.data.objects["Octopus"]
+    bm = bmesh.new()
+    bm.from_mesh(obj.data)
+    bmesh.ops.reverse_faces(bm, faces=list(bm.faces))
+    bm.to_mesh(obj.data)
+    bm.free()
+    obj.data.update()
+    view3d()[1].tag_redraw()
+
+
 def undo_in_window():
     """Ctrl+Z in the 3D View; old references to data are gone after it."""
     window, area, region = view3d()
@@ -212,7 +226,8 @@ def keep_check_and_undo():
     stats["keep"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
 
 
-steps = [setup, None, picture("off"), overlay_on, None, picture("on"), undo,
+steps = [setup, None, picture("off"), overlay_on, None, picture("on"), turn_inside_out, None,
+         picture("inside_out"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs(), None, modal_check("cancelled"),
          modal_invoke("second"), wait_for_jobs(sphere_written), None, modal_check("finished"),
          morph_setup, None, morph_invoke, wait_for_jobs(morph_written, "morph"), None, morph_check_and_undo,

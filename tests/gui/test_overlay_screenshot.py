@@ -15,6 +15,9 @@ def test_region_overlay_colours_the_viewport(tmp_path):
     # With the overlay the octopus shows its regions in several hues.
     assert on["colored"] > off["colored"] + 0.03 * on["pixels"], stats
     assert on["hue_bins_used"] >= 4, stats
+    # Inside out (normals inwards), the regions show as much as before.
+    inside_out = stats["inside_out"]
+    assert inside_out["colored"] > 0.8 * on["colored"] and inside_out["hue_bins_used"] >= 4, stats
     # Undo takes the segmentation back and keeps the mesh.
     assert stats["undo"]["regions_before"] and not stats["undo"]["regions_after"], stats
     assert stats["undo"]["vertices_after"] > 0, stats
