@@ -88,7 +88,8 @@ def test_a_closed_selection_needs_a_seam_and_a_seam_opens_it():
     mesh = obj.data
     select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
     before = layer_uv(mesh)
-    with pytest.raises(RuntimeError, match="closed surface: mark a seam"):
+    with pytest.raises(RuntimeError, match=r"the seams do not cut the selection into flat pieces: 1 island is "
+                                           r"closed \(no seam cuts it open\) of 1; mark more seams"):
         unwrap(obj)
     np.testing.assert_array_equal(layer_uv(mesh), before)
     # Seams on the 4 vertical edges and the top's edges except one: a cross-like net.
@@ -115,7 +116,7 @@ def test_bad_selections_report_and_change_nothing():
     with pytest.raises(RuntimeError, match="select the faces to unwrap"):
         unwrap(obj)
     np.testing.assert_array_equal(layer_uv(obj.data), before)
-    with pytest.raises(RuntimeError, match="poll"):  # Object Mode: Edit Mode only
+    with pytest.raises(RuntimeError, match="Works in Edit Mode"):  # Object Mode: Edit Mode only
         bpy.ops.paramorph.isometric_unwrap()
 
 
@@ -129,3 +130,28 @@ def test_a_mesh_without_uvs_gets_a_uv_layer():
     assert mesh.uv_layers.active is not None and mesh.uv_layers.active.name == "UVMap"
     uv = layer_uv(mesh)
     assert np.all(uv >= -1e-6) and np.all(uv <= 1 + 1e-6)
+
+
+def test_closed_pieces_are_counted_and_the_report_speaks_of_distortion(capfd):
+    # Two closed spheres and an open grid: both spheres are named as closed
+    # before any work; the grid alone unwraps and the report uses plain words.
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=12, ring_count=6)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=12, ring_count=6, location=(3, 0, 0))
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=5, y_subdivisions=5, location=(6, 0, 0))
+    for obj in bpy.context.scene.objects:
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = bpy.context.scene.objects[0]
+    bpy.ops.object.join()
+    obj = bpy.context.active_object
+    select_faces(obj.data, np.ones(len(obj.data.polygons), dtype=bool))
+    with pytest.raises(RuntimeError, match=r"2 islands are closed \(no seam cuts it open\) of 3"):
+        unwrap(obj)
+    co = np.empty(3 * len(obj.data.vertices), dtype=np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    centres = np.array([p.center for p in obj.data.polygons])
+    select_faces(obj.data, centres[:, 0] > 5)
+    capfd.readouterr()
+    assert unwrap(obj) == {"FINISHED"}
+    out, err = capfd.readouterr()
+    assert "Isometric Unwrap: 1 island, 0 pinned UVs kept, area distortion" in out + err, out + err
+    assert "L2" not in out + err
