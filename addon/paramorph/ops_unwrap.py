@@ -11,20 +11,28 @@ from .native_operator import NativeOperator, UserError
 from .preferences import backend
 
 
-def _map_islands(islands, *, progress, max_iterations, backend, margin):
-    """One isometric_map per island; progress spread over them."""
-    results, stats = [], []
+def _map_islands(islands, *, progress, max_iterations, backend, margin, densities=None):
+    """One isometric_map per island; progress spread over them. densities:
+    per island, None (its pins are hard constraints) or the UV length per 3D
+    length to size it by (its pins then place and turn it: uv_patch.place_by_pins).
+    Returns (UVs, native results, largest pin offset per island)."""
+    results, stats, offsets = [], [], []
     for i, island in enumerate(islands):
         def island_progress(fraction, stage, i=i):
             return progress((i + fraction) / len(islands), f"island {i + 1}/{len(islands)}: {stage}")
+        density = densities[i] if densities is not None else None
         kwargs = {}
-        if len(island.pinned):
+        if len(island.pinned) and density is None:
             kwargs = {"pinned": island.pinned, "pinned_uv": island.pinned_uv}
         m = native.isometric_map(island.V, island.F, max_iterations=max_iterations,
                                  backend=backend, progress=island_progress, **kwargs)
-        results.append(m.uv)
+        uv, offset = np.asarray(m.uv), 0.0
+        if len(island.pinned) and density is not None:
+            uv, offset = uv_patch.place_by_pins(uv, island, density)
+        results.append(uv)
         stats.append(m)
-    return uv_patch.pack_free_islands(results, islands, margin), stats
+        offsets.append(offset)
+    return uv_patch.pack_free_islands(results, islands, margin), stats, offsets
 
 
 def _count(n, word):
@@ -76,6 +84,13 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
     margin: bpy.props.FloatProperty(
         name="Margin", default=0.02, min=0.0, max=0.5,
         description="Space between unpinned islands when they are packed into the unit square")
+    pin_mode: bpy.props.EnumProperty(
+        name="Pins", default="PLACE",
+        items=(("PLACE", "Place and Turn", "Pinned UVs place and turn their island; its size follows the "
+                "surface at the texel density of the layout it had (pins move a little if the surface "
+                "disagrees with them)"),
+               ("EXACT", "Exact", "Every pinned UV stays exactly where it is; the island stretches to meet "
+                "them (hard constraints)")))
 
     @classmethod
     def poll(cls, context):
@@ -98,10 +113,21 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
                  "layer": layer.name if layer is not None else "UVMap"}
         options = {"max_iterations": self.max_iterations, "backend": backend(context),
                    "margin": self.margin}
+        if self.pin_mode == "PLACE" and uv is not None:
+            densities = []
+            for island in islands:
+                layout = np.zeros((len(island.V), 2))
+                layout[island.loop_vertex] = uv[island.loops]
+                densities.append(uv_patch.texel_density(island, layout) if len(island.pinned) >= 1 else None)
+            # Pins on a degenerate layout: size the island from the others' density, else pins exact.
+            known = [d for d in densities if d is not None]
+            options["densities"] = [d if d is not None or not len(island.pinned) else
+                                    (float(np.median(known)) if known else None)
+                                    for d, island in zip(densities, islands)]
         return _map_islands, (islands,), options, state
 
     def finish(self, context, result, state):
-        results, stats = result
+        results, stats, offsets = result
         obj = bpy.data.objects[state["object"]]
         with bridge.object_mode(context, obj):
             mesh = obj.data
@@ -113,7 +139,10 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
             bridge.write_uv_layer(mesh, uv, layer.name)
         pins = sum(len(island.pinned) for island in state["islands"])
         folds = sum(m.flipped for m in stats)
-        return (f"Isometric Unwrap: {_count(len(stats), 'island')}, {_count(pins, 'pinned UV')} kept, "
+        moved = max(offsets) if offsets else 0.0
+        kept = (f"{_count(pins, 'pinned UV')} placed the islands (moved {moved:.3g} at most)" if moved > 1e-9
+                else f"{_count(pins, 'pinned UV')} kept")
+        return (f"Isometric Unwrap: {_count(len(stats), 'island')}, {kept}, "
                 f"{distortion_words(stats)}" + (f", {_count(folds, 'fold')}" if folds else ", no folds"))
 
 

@@ -148,3 +148,40 @@ def pack_free_islands(results, islands, margin):
     for k, i in enumerate(free):
         out[i] = (results[i] - boxes[k][0] + offsets[k] + 0.5 * margin) / extent
     return out
+
+
+def _area(V, F):
+    """Total area of triangles F over points V (2 or 3 columns)."""
+    a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
+    if V.shape[1] == 2:
+        return 0.5 * float(np.abs(np.cross(b - a, c - a)).sum())
+    return 0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+
+
+def texel_density(island, layout_uv):
+    """UV length per 3D length of the island in the layout it had (per-vertex
+    UVs), or None when that layout is degenerate (no layout yet)."""
+    surface, flat = _area(island.V, island.F), _area(layout_uv, island.F)
+    if not (surface > 0 and flat > 1e-12 * surface and np.isfinite(flat)):
+        return None
+    return float(np.sqrt(flat / surface))
+
+
+def place_by_pins(free_uv, island, density):
+    """A free (isometric, 3D-sized) map of the island scaled to `density` and
+    turned and moved to fit its pins best (least squares): the pins place and
+    orient the island, its size comes from the surface (issue 20: two pins
+    from a 0-1 layout made the island a sliver, its stretch 150). Returns the
+    UVs and the largest distance of a pin from its pinned place."""
+    uv = free_uv * density
+    P, Q = uv[island.pinned], island.pinned_uv
+    if len(P) >= 2:  # the best rotation (Kabsch in 2D, no reflection, no scale)
+        p0, q0 = P.mean(axis=0), Q.mean(axis=0)
+        H = (P - p0).T @ (Q - q0)
+        U, _, Vt = np.linalg.svd(H)
+        d = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+        R = Vt.T @ np.diag([1.0, d]) @ U.T
+        uv = (uv - p0) @ R.T + q0
+    else:
+        uv = uv - P.mean(axis=0) + Q.mean(axis=0)
+    return uv, float(np.linalg.norm(uv[island.pinned] - Q, axis=1).max())

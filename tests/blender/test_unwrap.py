@@ -42,14 +42,14 @@ def unwrap(obj, **options):
         bpy.ops.object.mode_set(mode="OBJECT")
 
 
-def test_pinned_uvs_stay_exactly_and_nothing_folds():
+def test_exact_pinned_uvs_stay_exactly_and_nothing_folds():
     obj = make_samples.build_pinned_disc()
     mesh = obj.data
     before = layer_uv(mesh)
     pins = uv_patch.uv_pins(mesh, mesh.uv_layers.active)
     assert pins.sum() >= 4
     select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
-    assert unwrap(obj) == {"FINISHED"}
+    assert unwrap(obj, pin_mode="EXACT") == {"FINISHED"}
     after = layer_uv(mesh)
     np.testing.assert_array_equal(after[pins], before[pins])
     assert np.abs(after - before).max() > 1e-3  # the rest moved
@@ -155,3 +155,45 @@ def test_closed_pieces_are_counted_and_the_report_speaks_of_distortion(capfd):
     out, err = capfd.readouterr()
     assert "Isometric Unwrap: 1 island, 0 pinned UVs kept, area distortion" in out + err, out + err
     assert "L2" not in out + err
+
+
+def test_two_pins_from_a_unit_layout_place_and_turn_the_island_at_the_layouts_density(capfd):
+    # A 4 x 2 grid laid out by Blender's own unwrap into [0, 1]^2, then two
+    # pins on its long side: the island keeps its surface's proportions
+    # (issue 20: it became a sliver, "worst L2 stretch 150.891"), the pins
+    # place and turn it, and it keeps the layout's texel density.
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=4, size=2.0)
+    obj = bpy.context.active_object
+    obj.scale = (2.0, 1.0, 1.0)
+    bpy.ops.object.transform_apply(scale=True)
+    mesh = obj.data
+    select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="SELECT")
+    bpy.ops.uv.unwrap(method="ANGLE_BASED", margin=0.0)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    layout = layer_uv(mesh)
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    corners = [int(np.argmin(np.linalg.norm(co - p, axis=1))) for p in ([-2, -1, 0], [2, -1, 0])]
+    pinned = np.isin(loop_vertex, corners)
+    mesh.uv_layers.active.data.foreach_set("pin_uv", pinned)
+    density = np.sqrt(triangle_uv_areas(mesh, layout, np.ones(len(mesh.polygons), bool)).sum() / 8.0)
+    capfd.readouterr()
+    assert unwrap(obj) == {"FINISHED"}
+    out, err = capfd.readouterr()
+    after = layer_uv(mesh)
+    assert "placed the islands" in out + err or "pinned UVs kept" in out + err, out + err
+    areas = triangle_uv_areas(mesh, after, np.ones(len(mesh.polygons), bool))
+    assert np.all(areas > 0)
+    # The island's size follows the surface at the layout's density (8 square units).
+    assert abs(np.sqrt(areas.sum() / 8.0) / density - 1.0) < 0.05
+    # Not a sliver: the UV extents keep the surface's 2:1 proportions.
+    extent = np.ptp(after, axis=0)
+    assert 1.7 < max(extent) / min(extent) < 2.3, extent
+    # The pins placed and turned it: both pinned corners within 5 % of the layout where they were.
+    gap = np.linalg.norm(after[pinned] - layout[pinned], axis=1).max()
+    assert gap < 0.05 * np.ptp(layout, axis=0).max(), gap
