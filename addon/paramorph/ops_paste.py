@@ -83,6 +83,50 @@ def cursor_in_object(context, obj):
     return np.array(obj.matrix_world.inverted() @ context.scene.cursor.location, dtype=np.float64)
 
 
+# Smaller sizes a paste tries, in turn, where the feature does not fit.
+SMALLER = (0.7, 0.5, 0.35, 0.25)
+
+
+def _why_not(error):
+    """A refusal in an artist's words: no face or vertex numbers (issue 20)."""
+    text = str(error)
+    if "boundary" in text or "does not extend" in text:
+        return "it would hang over the edge of the surface"
+    if "folds over" in text or "curved" in text:
+        return "the surface is too curved under it"
+    return text.split(" (")[0]
+
+
+def build_fitting_session(V, F, feature, *, anchor, scale, progress, **options):
+    """native.PasteSession at `anchor` and `scale`; where the feature does not
+    fit, the same place at smaller sizes, then the nearest places around it
+    (so the tool always has a paste to show and keeps running, issue 20).
+    Returns (session, scale used, note: '' or what was changed)."""
+    anchor = np.asarray(anchor, dtype=np.float64)
+    first = None
+    for factor in (1.0,) + SMALLER:
+        try:
+            session = native.PasteSession(V, F, feature, anchor=anchor, scale=scale * factor,
+                                          progress=progress, **options)
+        except native.TargetTooSmallError as error:
+            first = first or error
+            continue
+        note = "" if factor == 1.0 else (f"{_why_not(first)} at full size: shown at scale "
+                                         f"{scale * factor:.2f}")
+        return session, scale * factor, note
+    # Other places, nearest first: vertices at growing distances from the anchor.
+    distance = np.linalg.norm(np.asarray(V) - anchor, axis=1)
+    order = np.argsort(distance)
+    for k in np.unique(np.geomspace(8, max(len(order) - 1, 8), 10).astype(int)):
+        place = np.asarray(V)[order[min(k, len(order) - 1)]]
+        try:
+            session = native.PasteSession(V, F, feature, anchor=place, scale=scale, progress=progress, **options)
+        except native.TargetTooSmallError:
+            continue
+        return session, scale, f"{_why_not(first)} at the mouse: shown at the nearest place it fits"
+    raise first
+
+
 class PasteController:
     """The interactive state of a paste: the session, its placement, and what
     each event does. Kept apart from the operator so scripts and tests drive
@@ -93,12 +137,13 @@ class PasteController:
         self.V, self.F, self.tri_poly = V, F, tri_poly
         self.rotation, self.scale = float(rotation), float(scale)
         self.message = ""
+        self._anchor = np.asarray(session.anchor_point, dtype=np.float64)
 
     def _update(self, **placement):
         try:
             self.session.update(**placement)
         except native.TargetTooSmallError as error:
-            self.message = f"does not fit there ({error})"
+            self.message = f"does not fit there: {_why_not(error)}" + self._smaller_hint(placement)
             return False
         except native.InvalidInputError as error:
             self.message = str(error)
@@ -107,7 +152,24 @@ class PasteController:
         for key, value in placement.items():
             if key != "anchor":
                 setattr(self, key, float(value))
+        if "anchor" in placement:
+            self._anchor = np.asarray(placement["anchor"], dtype=np.float64)
         return True
+
+    def _smaller_hint(self, placement):
+        """'; Shift+S makes it fit' only when a smaller size fits there
+        (checked with the session, then put back as it was)."""
+        if "anchor" not in placement:
+            return ""
+        wanted = float(placement.get("scale", self.scale))
+        for factor in SMALLER[:2]:
+            try:
+                self.session.update(anchor=placement["anchor"], scale=wanted * factor)
+            except (native.TargetTooSmallError, native.InvalidInputError):
+                continue
+            self.session.update(anchor=self._anchor, scale=self.scale)  # the last placement, which fitted
+            return f"; at scale {wanted * factor:.2f} it fits (Shift+S makes it smaller)"
+        return "; try a flatter place"
 
     def move(self, point):
         return self._update(anchor=np.asarray(point, dtype=np.float64))
@@ -278,9 +340,11 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
             start = cursor_in_object(context, obj)
         # The session is built in a thread (progress in the header, Esc cancels),
         # then the tool takes the mouse.
+        options = self._options()
+        scale = options.pop("scale")
         self._state = {"object": obj, "datablock": datablock, "bvh": bvh, "arrays": (V, F, tri_poly),
-                       "job": NativeJob(native.PasteSession, V, F, feature, anchor=start,
-                                        **self._options()).start()}
+                       "job": NativeJob(build_fitting_session, V, F, feature, anchor=start, scale=scale,
+                                        **options).start()}
         wm = context.window_manager
         self._state["timer"] = wm.event_timer_add(0.05, window=context.window)
         wm.modal_handler_add(self)
@@ -303,7 +367,9 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
             level = {"WARNING"} if isinstance(job.error, native.Cancelled) else {"ERROR"}
             self.report(level, self._describe(job.error, V, F))
             return {"CANCELLED"}
-        self._controller = PasteController(job.result, V, F, tri_poly, self.rotation, self.scale)
+        session, scale, note = job.result
+        self._controller = PasteController(session, V, F, tri_poly, self.rotation, scale)
+        self._controller.message = note
         paste_preview.start()
         self._refresh(context)
         _set_phase("placing")

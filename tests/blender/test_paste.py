@@ -5,6 +5,7 @@ quads, materials and attributes kept), gives new faces the material of the
 faces they replaced, and undoes in one step; the modal tool's event handling
 (driven with synthetic events); bad selections and missing features report
 in plain words and change nothing."""
+import re
 import types
 
 import bpy
@@ -262,6 +263,34 @@ def test_the_modal_tool_moves_turns_and_scales_the_preview_and_writes_nothing():
     assert len(rows) >= len(new_faces) > 0
     assert len(mesh.polygons) == faces0
     np.testing.assert_array_equal(coordinates(mesh), V0)
+
+
+def test_a_paste_that_does_not_fit_is_shown_smaller_and_the_refusal_is_in_plain_words():
+    pm = native()
+    copy_boss()
+    target = quad_sphere()
+    activate(target)
+    feature, _ = ops_paste.load_feature("")
+    V, F, tri_poly = ops_paste.target_arrays(bpy.context, target)
+    # Too large for the sphere at full size x 12: the tool starts at a size that fits instead of giving up.
+    session, scale, note = ops_paste.build_fitting_session(V, F, feature, anchor=np.array([0.0, 0.0, 1.6]),
+                                                           scale=12.0, progress=None)
+    assert scale < 12.0 and f"shown at scale {scale:.2f}" in note, note
+    assert not re.search(r"(face|vertex) \d", note), note  # no element numbers
+    controller = ops_paste.PasteController(session, V, F, tri_poly, 0.0, scale)
+    before = np.array(session.anchor_point)
+    assert controller.rescale(40.0) is False
+    assert controller.message.startswith("does not fit there: ")
+    assert not re.search(r"(face|vertex) \d", controller.message), controller.message
+    np.testing.assert_allclose(np.array(session.anchor_point), before)  # the last placement kept
+    # A placement that does not fit but would at half the size: the hint says
+    # so (checked with the session); one that fits at no smaller size does not.
+    place = np.array([1.6, 0.0, 0.0])
+    assert controller._update(anchor=place, scale=scale / 0.5) is False
+    assert "it fits (Shift+S makes it smaller)" in controller.message, controller.message
+    np.testing.assert_allclose(np.array(session.anchor_point), before)  # put back as it was
+    assert controller._update(anchor=place, scale=200.0) is False
+    assert controller.message.endswith("; try a flatter place"), controller.message
 
 
 def test_the_3d_cursor_is_the_start_in_object_coordinates():
