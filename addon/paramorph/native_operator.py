@@ -4,11 +4,29 @@ Esc to cancel when Blender has a window; on the calling thread in `blender -b`,
 from scripts and from the redo panel), then write the result on the main
 thread. Nothing is written unless the call succeeded, so a cancelled or
 failed run leaves the mesh exactly as it was."""
+import time
+
 import bpy
 
 from . import bridge, messages, poll_reasons
 from .jobs import NativeJob
 from .native import load_error, native
+
+
+# Above this many input faces an operator says before it starts that it may
+# take minutes (a 97k-face horse morphed for 16 minutes with no warning).
+LARGE_INPUT_FACES = 50_000
+
+
+def remaining_words(elapsed, fraction):
+    """'  about 2 min left' from the time so far and the fraction done, once
+    there is enough of both to say something; '' before."""
+    if fraction < 0.05 or elapsed < 2.0:
+        return ""
+    left = elapsed * (1.0 - fraction) / fraction
+    if left < 60:
+        return f"  about {max(5, int(round(left / 5)) * 5)} s left"
+    return f"  about {int(round(left / 60))} min left"
 
 
 class NativeOperator:
@@ -19,6 +37,7 @@ class NativeOperator:
     _job = None
     _timer = None
     _state = None
+    _started = 0.0
 
     @classmethod
     def poll(cls, context):
@@ -66,6 +85,12 @@ class NativeOperator:
         if prepared is None:
             return {"CANCELLED"}
         function, args, kwargs, self._state = prepared
+        self._started = time.monotonic()
+        faces = sum(len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,)
+                    and a.dtype.kind == "i")
+        if faces >= LARGE_INPUT_FACES:
+            self.report({"INFO"}, f"{self.bl_label}: {faces:,} faces: this can take minutes; progress and the "
+                                  "time left show in the status bar, Esc cancels")
         self._job = NativeJob(function, *args, **kwargs).start()
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
@@ -85,7 +110,8 @@ class NativeOperator:
                 if area.type == "VIEW_3D":
                     area.tag_redraw()  # the panel's progress line
             if context.workspace is not None:
-                text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%  (Esc to cancel)"
+                left = remaining_words(time.monotonic() - self._started, job.fraction)
+                text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%{left}  (Esc to cancel)"
                 context.workspace.status_text_set(text)
             return {"RUNNING_MODAL"}
         self._end_modal(context)

@@ -306,3 +306,11 @@ def test_a_greyed_operator_says_why():
         bpy.ops.paramorph.morph_to()
     with pytest.raises(RuntimeError, match="There are no pins to clear"):
         bpy.ops.paramorph.clear_pins()
+
+
+def test_the_status_bar_says_how_long_is_left():
+    from paramorph.native_operator import remaining_words
+    assert remaining_words(1.0, 0.5) == ""      # too early to say
+    assert remaining_words(30.0, 0.01) == ""    # too little done to say
+    assert remaining_words(10.0, 0.5) == "  about 10 s left"
+    assert remaining_words(120.0, 0.5) == "  about 2 min left"
