@@ -243,8 +243,10 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         description="Loop subdivision of the target under the feature (-1: matched to the feature's detail)")
     basis: bpy.props.EnumProperty(
         name="Basis", default="polyharmonic",
-        items=(("polyharmonic", "Polyharmonic", "Smooth blend (r^3): the surface bends as a thin plate"),
-               ("wendland", "Wendland", "Compact support: the bend stays inside the blend radius")))
+        items=(("polyharmonic", "Smooth Blend", "The surface around the feature bends smoothly, like a thin "
+                "plate (polyharmonic r^3 basis)"),
+               ("wendland", "Local Blend", "The bend stays inside the blend radius; the rest of the surface "
+                "does not move (Wendland compactly supported basis)")))
     fit: bpy.props.EnumProperty(
         name="Fit", default="keep_form",
         items=(("keep_form", "Keep Form", "The feature keeps its own shape; the surface around it blends in"),

@@ -55,15 +55,17 @@ def _segment_extremities(V, F, *, progress, **options):
 
 
 class PARAMORPH_OT_segment_extremities(_Segmenter, bpy.types.Operator):
-    """Split the active closed genus-0 mesh into its extremities (limbs, ears) and
-    body by the area stretch of its conformal sphere map"""
+    """Split the active mesh into its body and the parts that stick out (limbs, ears, tail),
+    by how much its sphere map shrinks them (a closed, sphere-like surface; Repair mends
+    one that is not)"""
     bl_idname = "paramorph.segment_extremities"
     bl_label = "Segment Extremities"
     bl_options = {"REGISTER", "UNDO"}
 
     threshold: bpy.props.FloatProperty(
         name="Threshold", default=1.5, min=0.05, soft_max=5.0,
-        description="Rise of log area stretch a part needs to be its own region")
+        description="How much more a part must stick out than the body to become its own region (higher: "
+                    "fewer, longer parts; the rise of log area stretch of the sphere map)")
     min_area: bpy.props.FloatProperty(
         name="Minimum Area", default=0.01, min=0.0, max=0.5, subtype="FACTOR",
         description="Regions under this share of the surface are merged into a neighbour")

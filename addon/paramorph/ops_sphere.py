@@ -10,16 +10,17 @@ from .preferences import backend
 
 
 class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
-    """Map the active closed genus-0 mesh onto the sphere without folds: writes the
-    "Sphere" UV layer and the "Sphere" shape key"""
+    """Map the active mesh onto a sphere without folds (a closed, sphere-like surface; Repair
+    mends one that is not): writes the "Sphere" UV layer and the "Sphere" shape key"""
     bl_idname = "paramorph.sphere_map"
     bl_label = "Sphere Map"
     bl_options = {"REGISTER", "UNDO"}
 
     weights: bpy.props.EnumProperty(
         name="Weights",
-        items=[("conformal", "Conformal", "Cotangent weights: angles kept, best for texturing"),
-               ("barycentric", "Barycentric", "Uniform weights: robust on poor triangles")],
+        items=[("conformal", "Keep Angles", "Shapes of small details kept, best for texturing (conformal, "
+                "cotangent weights)"),
+               ("barycentric", "Even Spread", "Robust on long thin triangles (barycentric, uniform weights)")],
         default="conformal")
     shape_key: bpy.props.BoolProperty(
         name="Shape Key", default=True, description="Also add the \"Sphere\" shape key")

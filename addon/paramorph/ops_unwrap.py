@@ -80,7 +80,8 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
 
     max_iterations: bpy.props.IntProperty(
         name="Iterations", default=1000, min=1, max=100000,
-        description="Most L-BFGS iterations per island")
+        description="Most optimisation steps per island (more: less stretch on hard shapes, slower; L-BFGS "
+                    "iterations)")
     margin: bpy.props.FloatProperty(
         name="Margin", default=0.02, min=0.0, max=0.5,
         description="Space between unpinned islands when they are packed into the unit square")

@@ -314,3 +314,22 @@ def test_the_status_bar_says_how_long_is_left():
     assert remaining_words(30.0, 0.01) == ""    # too little done to say
     assert remaining_words(10.0, 0.5) == "  about 10 s left"
     assert remaining_words(120.0, 0.5) == "  about 2 min left"
+
+
+JARGON = ("genus", "l-bfgs", "log area stretch", "polyharmonic", "wendland", "barycentric", "conformal",
+          "face floor", "lindstrom")
+
+
+def test_tooltips_speak_artist_words_first():
+    # Technical terms may follow in parentheses, after the plain words (issue 20).
+    import re
+    for idname in dir(bpy.ops.paramorph):
+        rna = getattr(bpy.ops.paramorph, idname).get_rna_type()
+        texts = [rna.name, rna.description]
+        for prop in rna.properties:
+            texts += [prop.name, prop.description]
+            texts += [f"{item.name} {item.description}" for item in getattr(prop, "enum_items", ())]
+        for text in texts:
+            plain = re.sub(r"\([^)]*\)", "", text or "").lower()
+            for word in JARGON:
+                assert word not in plain, f"{idname}: {text!r}"
