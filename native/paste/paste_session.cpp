@@ -11,6 +11,8 @@
 #include "common/errors.h"
 #include "mesh/vertex_normals.h"
 #include "mesh/closest_points.h"
+#include "paste/disc_map.h"
+#include "paste/disc_region.h"
 #include "paste/exponential_map.h"
 #include "paste/refine_region.h"
 #include "paste/locate_in_map.h"
@@ -235,6 +237,15 @@ class PlaneLocator {
 
 }  // namespace
 
+TargetMap parse_target_map(const std::string& name) {
+  if (name == "auto") return TargetMap::Auto;
+  if (name == "exponential") return TargetMap::Exponential;
+  if (name == "disc") return TargetMap::Disc;
+  PM_REQUIRE(false, InvalidInputError, "target_map must be \"auto\", \"exponential\" or \"disc\", got \"", name,
+             "\"");
+  return TargetMap::Auto;
+}
+
 PasteFit parse_paste_fit(const std::string& name) {
   if (name == "keep_form") return PasteFit::KeepForm;
   if (name == "follow_surface") return PasteFit::FollowSurface;
@@ -334,7 +345,9 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   };
 
   // 2. Feature-plane coordinates of the target: its exponential map around
-  // the anchor, in feature units.
+  // the anchor, in feature units; the disc map where that folds (see THE
+  // PARAMETERIZATIONS in the header).
+  const auto map_start = Clock::now();
   const Index nv = Index(V.rows()), nf = Index(F.rows());
   ExponentialMap map = exponential_map(mesh, vertex_normals, anchor_face, p, t, n, rim * scale);
   std::vector<Eigen::Vector2d>& q = map.q;
@@ -354,31 +367,101 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   const Csr& corners = mesh.vertex_corners();
   std::vector<char> seen(std::size_t(nf), 0);
   std::vector<Index> region, refined;
-  for (const Index v : map.vertices) {
-    for (Index j = corners.begin(v); j < corners.end(v); ++j) {
-      const Index f = corners.items[j] / 3;
-      if (seen[f]) continue;
-      seen[f] = 1;
-      if (!(map.reached[F(f, 0)] && map.reached[F(f, 1)] && map.reached[F(f, 2)])) continue;  // the map's edge
-      const Eigen::Vector2d &a = q_of(F(f, 0)), &b = q_of(F(f, 1)), &c = q_of(F(f, 2));
-      const double d = origin_triangle_distance(a, b, c);
-      if (d >= rim && f != anchor_face) continue;
-      region.push_back(f);
-      if (d > radius) continue;
-      refined.push_back(f);
-      PM_REQUIRE(cross2(b - a, c - a) > 0, TargetTooSmallError,
-                 "the target's surface folds over under the feature (face ", f,
-                 "): it is too curved there for the feature at this size; paste it smaller or elsewhere");
-      for (int k = 0; k < 3; ++k) {  // the feature must not hang over the target's boundary
-        const Index e = FE(f, k);
-        PM_REQUIRE(EF.size(e) > 1 || origin_segment_distance(q_of(E(e, 0)), q_of(E(e, 1))) > radius,
-                   TargetTooSmallError, "the feature reaches the target's boundary here (near vertex ", E(e, 0),
-                   "); move it inwards or make it smaller");
+  // Region: the mapped faces within the rim (of `allowed`, when given);
+  // refined: those the feature's disc touches. Whether any is turned over.
+  bool region_folds = false, refined_folds = false;
+  const auto select = [&](const std::vector<Index>& vertices, const std::vector<char>* allowed) {
+    region.clear(), refined.clear();
+    region_folds = refined_folds = false;
+    std::vector<Index> touched;
+    for (const Index v : vertices) {
+      for (Index j = corners.begin(v); j < corners.end(v); ++j) {
+        const Index f = corners.items[j] / 3;
+        if (seen[f]) continue;
+        seen[f] = 1;
+        touched.push_back(f);
+        if (allowed && !(*allowed)[f]) continue;
+        if (!(map.reached[F(f, 0)] && map.reached[F(f, 1)] && map.reached[F(f, 2)])) continue;  // the map's edge
+        const Eigen::Vector2d &a = q_of(F(f, 0)), &b = q_of(F(f, 1)), &c = q_of(F(f, 2));
+        const double d = origin_triangle_distance(a, b, c);
+        if (d >= rim && f != anchor_face) continue;
+        region.push_back(f);
+        const bool turned = !(cross2(b - a, c - a) > 0);
+        region_folds |= turned;
+        if (d > radius) continue;
+        refined.push_back(f);
+        refined_folds |= turned;
       }
     }
+    for (const Index f : touched) seen[f] = 0;
+  };
+  select(map.vertices, nullptr);
+  bool use_disc = options.target_map == TargetMap::Disc;
+  if (options.target_map == TargetMap::Exponential) {
+    PM_REQUIRE(!refined_folds, TargetTooSmallError,
+               "the target's surface folds over under the feature: it is too curved there for the feature at this "
+               "size; paste it smaller or elsewhere");
+  } else if (options.target_map == TargetMap::Auto) {
+    use_disc = region_folds || !is_disc_up_to_holes(mesh, region);
   }
+  DiscRegion disc;
+  int disc_iterations = 0;
+  if (use_disc) {
+    // The disc within about 1.25 rims of path distance; grown further (once)
+    // where its map ends inside the rim, so the blend fades out within it.
+    // Where the exponential map is still fold-free near the anchor (within
+    // half the feature's radius), the disc map is fitted to it there.
+    std::vector<std::pair<Index, Eigen::Vector2d>> reference;
+    for (const Index v : map.vertices) {
+      if (!(q[v].norm() < 0.5 * radius)) continue;
+      bool fold_free = true;
+      for (Index j = corners.begin(v); j < corners.end(v) && fold_free; ++j) {
+        const Index f = corners.items[j] / 3;
+        if (!(map.reached[F(f, 0)] && map.reached[F(f, 1)] && map.reached[F(f, 2)])) continue;
+        fold_free = cross2(q[F(f, 1)] - q[F(f, 0)], q[F(f, 2)] - q[F(f, 0)]) > 0;
+      }
+      if (fold_free) reference.emplace_back(v, scale * q[v]);
+    }
+    double grow = 1.25 * rim * scale;
+    DiscMap flat;
+    for (int attempt = 0;; ++attempt) {
+      disc = grow_disc_region(mesh, anchor_face, p, rim * scale, grow, 1.6 * grow);
+      flat = disc_map(mesh, disc, anchor_face, hit.bary.row(0).transpose(), t, n, reference);
+      double reach = std::numeric_limits<double>::infinity();
+      for (const Index v : disc.cut_vertices) reach = std::min(reach, flat.q[v].norm());
+      if (reach >= rim * scale || attempt == 1) break;
+      grow *= 1.5;
+    }
+    disc_iterations = flat.iterations;
+    for (const Index v : map.vertices) map.reached[v] = 0;
+    std::fill(projected.begin(), projected.end(), 0);
+    q = std::move(flat.q);
+    for (const Index v : disc.vertices) q[v] /= scale, map.reached[v] = 1;
+    map.vertices = disc.vertices;
+    select(map.vertices, &disc.in_disc);
+    PM_REQUIRE(!region_folds, TargetTooSmallError,  // a fold-free map; never expected
+               "the surface under the feature could not be flattened without folds; move the feature or make it "
+               "smaller");
+  }
+  // The feature must not hang over the target's boundary, nor over the disc
+  // map's edge.
+  for (const Index f : refined)
+    for (int k = 0; k < 3; ++k) {
+      const Index e = FE(f, k);
+      const bool open = EF.size(e) < 2;
+      const bool cut = use_disc && !open &&
+                       !(disc.in_disc[EF.items[EF.begin(e)]] && disc.in_disc[EF.items[EF.begin(e) + 1]]);
+      if ((!open && !cut) || origin_segment_distance(q_of(E(e, 0)), q_of(E(e, 1))) > radius) continue;
+      PM_REQUIRE(!open, TargetTooSmallError,
+                 "the feature reaches the target's boundary (an open edge of the mesh) here; move it inwards or "
+                 "make it smaller");
+      PM_REQUIRE(false, TargetTooSmallError,
+                 "the surface under the feature is not a single disc (it wraps around or folds back within the "
+                 "feature); move the feature or make it smaller");
+    }
   std::sort(region.begin(), region.end());
   std::sort(refined.begin(), refined.end());
+  const double map_seconds = seconds_since(map_start);
 
   // 3. Level: refined edges about as long as the feature's short ones, scaled.
   int level = options.subdivision_level;
@@ -502,6 +585,10 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   stats.lift = lift;
   stats.feature_radius = radius * scale;
   stats.influence_radius = rim * scale;
+  stats.disc_map = use_disc;
+  stats.disc_faces = use_disc ? Index(disc.faces.size()) : 0;
+  stats.disc_iterations = disc_iterations;
+  stats.map_seconds = map_seconds;
   stats.update_seconds = seconds_since(t0);
 }
 

@@ -17,6 +17,19 @@
 // the same map around its origin on its base (its base map where that origin
 // is off the base, an annulus). Built alike, the two agree: a feature cut
 // from a curved surface fits a like one at its own size.
+// Where the surface turns too much under the feature, the exponential map
+// folds (a scan's noise and bumps, a cartoon's ears: it overlaps itself
+// beyond a ridge). If any face within the rim is turned over in it, or the
+// faces within the rim do not form a disc up to holes of the target, the
+// target is instead parameterized by a fold-free disc map: the region within
+// about 1.25 rims (edge-path distance) grown as a topological disc (paste/
+// disc_region.h) and flattened by the isometric solver from a Tutte start
+// (paste/disc_map.h), placed so the anchor and its frame mean what they mean
+// in the exponential map (so rotation and scale do too). It refuses only
+// where the surface within the rim is not a disc (a handle, a hole, a part
+// thinner than the feature it would wrap around) or the feature reaches the
+// target's boundary. Both maps are computed per placement (a few ms), so an
+// update equals a fresh session.
 //
 // BASE DEFORMATION (5.1, 5.2; keep form). The feature's boundary must meet
 // the target: an RBF over the feature plane moves the target around it, with
@@ -66,6 +79,23 @@ enum class PasteFit {
 /// "keep_form" | "follow_surface" -> PasteFit; InvalidInputError otherwise.
 PasteFit parse_paste_fit(const std::string& name);
 
+/// How the target under the feature is parameterized (see THE
+/// PARAMETERIZATIONS above).
+enum class TargetMap {
+  /// The exponential map where it is fold-free over the region within the
+  /// rim and that region is a disc (up to holes of the target); else the
+  /// disc map. The default.
+  Auto,
+  /// Only the exponential map; TargetTooSmallError where it folds under the
+  /// feature (the behaviour before the disc map).
+  Exponential,
+  /// Always the disc map (paste/disc_map.h).
+  Disc,
+};
+
+/// "auto" | "exponential" | "disc" -> TargetMap; InvalidInputError otherwise.
+TargetMap parse_target_map(const std::string& name);
+
 struct PasteOptions {
   Eigen::Vector3d anchor = Eigen::Vector3d::Zero();  ///< target coordinates; snapped to the surface
   double rotation = 0.0;      ///< radians about the normal
@@ -74,6 +104,7 @@ struct PasteOptions {
   int subdivision_level = -1; ///< -1: automatic; else 0..6
   RbfBasis basis = RbfBasis::Polyharmonic;
   PasteFit fit = PasteFit::KeepForm;
+  TargetMap target_map = TargetMap::Auto;
 };
 
 struct PasteStats {
@@ -87,6 +118,10 @@ struct PasteStats {
   double lift = 0.0;              ///< keep form: the feature's offset along the normal (see PLACEMENT)
   double feature_radius = 0.0;    ///< the feature's extent from the anchor, target units (max |q| of its boundary x scale)
   double influence_radius = 0.0;  ///< blend_radius x feature_radius: beyond it nothing moves
+  bool disc_map = false;          ///< the target's coordinates came from the disc map (else the exponential map)
+  Index disc_faces = 0;           ///< the disc map's faces (0 with the exponential map)
+  int disc_iterations = 0;        ///< the isometric solver's iterations for the disc map
+  double map_seconds = 0.0;       ///< of update_seconds: the target's parameterization (step 2)
   double setup_seconds = 0.0;     ///< the constructor's one-off work
   double update_seconds = 0.0;    ///< the last placement
 };
@@ -108,10 +143,9 @@ class PasteSession {
 
   /// Moves, turns or scales the feature: the same result as a new session
   /// with these values. Throws TargetTooSmallError when the feature does not
-  /// fit there (its disc reaches the target's boundary, the surface under it
-  /// turns away from the normal so the projection folds, or the target ends
-  /// within the blend radius); the session then keeps its previous placement
-  /// and result. InvalidInputError for a non-finite anchor or rotation, or a
+  /// fit there (its disc reaches the target's boundary, the surface within
+  /// the rim is not a disc, or the target ends within the blend radius); the
+  /// session then keeps its previous placement and result. InvalidInputError for a non-finite anchor or rotation, or a
   /// scale <= 0.
   void update(const Eigen::Vector3d& anchor, double rotation, double scale);
 

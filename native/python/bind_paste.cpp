@@ -371,6 +371,10 @@ py::dict stats_dict(const paste::PasteStats& s) {
   d["lift"] = s.lift;
   d["feature_radius"] = s.feature_radius;
   d["influence_radius"] = s.influence_radius;
+  d["target_map"] = s.disc_map ? "disc" : "exponential";
+  d["disc_faces"] = s.disc_faces;
+  d["disc_iterations"] = s.disc_iterations;
+  d["map_seconds"] = s.map_seconds;
   d["setup_seconds"] = s.setup_seconds;
   d["update_seconds"] = s.update_seconds;
   return d;
@@ -381,7 +385,8 @@ void def_paste_session(py::module_& m) {
   py::class_<PasteSession>(m, "PasteSession", R"doc(A feature pasted onto a target, movable (thesis 5.2).
 
 PasteSession(V, F, feature, *, anchor, rotation=0.0, scale=1.0, blend_radius=2.0,
-             subdivision_level=-1, basis="polyharmonic", fit="keep_form", progress=None)
+             subdivision_level=-1, basis="polyharmonic", fit="keep_form", target_map="auto",
+             progress=None)
 
 V (n, 3), F (m, 3): the target, a manifold triangle mesh. feature: from extract_feature.
 anchor (3,): snapped to the closest point of the target; the feature's frame sits there
@@ -393,13 +398,20 @@ the refined edges to the feature's, else 0..6. basis: RBF of the base deformatio
 fit="keep_form": the feature keeps its form; an RBF over the feature's plane (factored
 once) bends the target to meet its boundary. fit="follow_surface": the feature's
 displacement map is laid over the target's Loop limit surface in its frame (no blend).
-The faces under it are Loop-refined (OpenSubdiv) and stitched without cracks; the
-target's coordinates are its discrete exponential map around the anchor.
+The faces under it are Loop-refined (OpenSubdiv) and stitched without cracks. The
+target's coordinates: target_map="auto" takes its discrete exponential map around the
+anchor where that is fold-free within the rim, else a fold-free disc map (the surface
+within about 1.25 rims grown as a disc, flattened by the isometric solver from a Tutte
+start, anchored in the same frame); "exponential" only the former (refusing where it
+folds), "disc" always the latter. stats["target_map"] says which ran. It refuses
+(TargetTooSmallError) only where the surface within the rim is not a disc (a hole, a
+handle, a part thinner than the feature) or the feature reaches the target's boundary.
 update() moves it (same result as a new session).
 Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallError.)doc")
       .def(py::init([](const py::object& V, const py::object& F, const Feature& feature, const py::object& anchor,
                        double rotation, double scale, double blend_radius, int subdivision_level,
-                       const std::string& basis, const std::string& fit, py::object progress) {
+                       const std::string& basis, const std::string& fit, const std::string& target_map,
+                       py::object progress) {
              const MatrixX3d v = to_vertices(V);
              const MatrixX3i f = to_faces(F);
              paste::PasteOptions o;
@@ -410,13 +422,14 @@ Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallE
              o.subdivision_level = subdivision_level;
              o.basis = paste::parse_rbf_basis(basis);
              o.fit = paste::parse_paste_fit(fit);
+             o.target_map = paste::parse_target_map(target_map);
              PythonProgress bridge(std::move(progress));
              return run_without_gil(bridge, [&] { return std::make_unique<PasteSession>(v, f, feature, o, bridge.get()); });
            }),
            py::arg("V"), py::arg("F"), py::arg("feature"), py::kw_only(), py::arg("anchor"),
            py::arg("rotation") = 0.0, py::arg("scale") = 1.0, py::arg("blend_radius") = 2.0,
            py::arg("subdivision_level") = -1, py::arg("basis") = "polyharmonic", py::arg("fit") = "keep_form",
-           py::arg("progress") = py::none())
+           py::arg("target_map") = "auto", py::arg("progress") = py::none())
       .def(
           "update",
           [](PasteSession& s, const py::object& anchor, const py::object& rotation, const py::object& scale) {
@@ -456,6 +469,13 @@ Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallE
       })
       .def_property_readonly("fit", [](const PasteSession& s) {
         return s.options().fit == paste::PasteFit::FollowSurface ? "follow_surface" : "keep_form";
+      })
+      .def_property_readonly("target_map", [](const PasteSession& s) {
+        switch (s.options().target_map) {
+          case paste::TargetMap::Exponential: return "exponential";
+          case paste::TargetMap::Disc: return "disc";
+          default: return "auto";
+        }
       })
       .def_property_readonly("stats", [](const PasteSession& s) { return stats_dict(s.stats()); })
       .def("__repr__", [](const PasteSession& s) {

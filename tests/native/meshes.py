@@ -14,6 +14,9 @@ flipped_face, loose_vertex, nan_vertex, out_of_range_index, zero_area_face.
 
 Open surfaces for feature cut-and-paste: plane_grid, bump_plane (Gaussian
 bump), rib_plane (ring-shaped rib), bump_sphere (radial Gaussian bump).
+Curved paste targets (closed genus 0) where a feature's exponential map
+folds: scan_like (a noisy, bumpy blob like a raw scan, any size) and
+cartoon_head (ears, nose, brows and eye sockets: steep, high-curvature forms).
 """
 import numpy as np
 
@@ -656,3 +659,81 @@ def bump_sphere(subdivisions=5, height=0.05, sigma=0.2, cap=0.6):
     c = face_centroids(V, F)
     tc = np.arccos(np.clip(c[:, 2] / np.linalg.norm(c, axis=1), -1, 1))
     return V, F, np.flatnonzero(tc < cap).astype(np.int32)
+
+
+# --- curved paste targets -----------------------------------------------------------
+
+def _radial_bumps(P, bumps):
+    """1 + sum of height * exp(-(angle to direction / width)**2) over (direction, width, height)."""
+    r = np.ones(len(P))
+    for direction, width, height in bumps:
+        d = np.asarray(direction, np.float64)
+        d /= np.linalg.norm(d)
+        r += height * np.exp(-(np.arccos(np.clip(P @ d, -1, 1)) / width) ** 2)
+    return r
+
+
+def scan_like(target_faces=100000, seed=3, bumps=80, noise=0.6):
+    """A raw scan's surface (closed genus 0, about `target_faces` faces): the
+    sized_sphere_mesh blob (low-frequency waves) with `bumps` random Gaussian
+    bumps and dents (angular widths 0.04-0.2 rad, heights +-(0.02-0.12)) and
+    per-vertex radial noise of `noise` times the mean edge length, like a
+    scanner's. Deterministic for a seed."""
+    frequency = max(1, int(round((target_faces / 20.0) ** 0.5)))
+    P, F = geodesic_sphere(frequency)
+    rng = np.random.default_rng(seed)
+    directions = rng.normal(size=(bumps, 3))
+    widths = rng.uniform(0.04, 0.2, bumps)
+    heights = rng.uniform(0.02, 0.12, bumps) * rng.choice([-1.0, 1.0], bumps)
+    V = _blob(P * _radial_bumps(P, zip(directions, widths, heights))[:, None], seed=7)
+    edge = np.linalg.norm(V[F[:, 0]] - V[F[:, 1]], axis=1).mean()
+    V += (noise * edge * rng.normal(size=len(V)))[:, None] * P
+    return V, F
+
+
+CARTOON_FORMS = [  # (direction, angular width, height): +y is the face's front, +z up
+    ((0.0, 1.0, -0.05), 0.14, 0.45),     # nose
+    ((0.12, 1.0, -0.22), 0.04, -0.06),   # nostrils
+    ((-0.12, 1.0, -0.22), 0.04, -0.06),
+    ((0.95, 0.0, 0.3), 0.09, 0.7),       # ears: tall and thin
+    ((-0.95, 0.0, 0.3), 0.09, 0.7),
+    ((0.35, 0.85, 0.35), 0.11, -0.16),   # eye sockets with eyeballs in them
+    ((-0.35, 0.85, 0.35), 0.11, -0.16),
+    ((0.35, 0.85, 0.35), 0.05, 0.12),
+    ((-0.35, 0.85, 0.35), 0.05, 0.12),
+    ((0.3, 0.8, 0.55), 0.06, 0.10),      # brows
+    ((-0.3, 0.8, 0.55), 0.06, 0.10),
+    ((0.0, 0.9, -0.42), 0.07, 0.08),     # lips
+    ((0.0, 0.85, -0.52), 0.07, 0.07),
+    ((0.0, 0.75, -0.65), 0.25, 0.15),    # chin
+    ((0.0, 0.2, 1.0), 0.35, 0.20),       # crown
+]
+
+
+def cartoon_head(subdivisions=5, jitter=0.35, noise=0.0, seed=5):
+    """A cartoon head (closed genus 0, 20 * 4**subdivisions faces): an
+    icosphere pushed out into a nose, two tall thin ears, eyeballs, brows,
+    lips, a chin and a crown, and in at the nostrils and eye sockets (radial
+    Gaussians, so it stays star-shaped), stretched to (0.9, 1, 1.1). The forms are steep: where they
+    meet the skull the surface turns sharply. The triangulation is irregular
+    like a modelled mesh's: before the push every vertex moves along the
+    sphere in a random direction by up to `jitter` times its shortest edge
+    (seeded; below half the distance to any opposite edge, so no face turns
+    over and the surface does not cross itself). noise: radial noise of that
+    many mean edge lengths, as on a scanned or sculpted head."""
+    P, F = icosphere(subdivisions)
+    rng = np.random.default_rng(seed)
+    edges = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    length = np.linalg.norm(P[edges[:, 0]] - P[edges[:, 1]], axis=1)
+    shortest = np.full(len(P), np.inf)
+    np.minimum.at(shortest, edges[:, 0], length)
+    np.minimum.at(shortest, edges[:, 1], length)
+    J = rng.normal(size=P.shape)
+    J -= np.einsum("ij,ij->i", J, P)[:, None] * P
+    J *= (jitter * shortest * rng.uniform(0, 1, len(P)) / np.linalg.norm(J, axis=1))[:, None]
+    P = P + J
+    P /= np.linalg.norm(P, axis=1, keepdims=True)
+    V = P * _radial_bumps(P, CARTOON_FORMS)[:, None]
+    edge = np.linalg.norm(V[F[:, 0]] - V[F[:, 1]], axis=1).mean()
+    V += (noise * edge * rng.normal(size=len(V)))[:, None] * P
+    return V * np.array([0.9, 1.0, 1.1]), F
