@@ -4,7 +4,8 @@ unit directions (NaN, inf, 0, 1e-200, 1e200) and coordinates past 1e150 given
 to entry points that trusted their arrays (the morph's pieces, simplify,
 surface_distance, extremity_tips, align_sphere_map: SIGSEGV, or SIGFPE from
 GMP inside CGAL's closest-point tree), and a progress that cannot be called
-(a TypeError at its first report, or never at all)."""
+(a TypeError at its first report, or never at all). Also a sliver whose
+normal's squared length underflows (CGAL's closest point on it was NaN)."""
 import numpy as np
 import pytest
 
@@ -86,6 +87,17 @@ def test_sphere_points_must_be_directions(call, value):
 def test_coordinates_whose_areas_overflow_are_refused(call):
     with pytest.raises(pm.InvalidInputError, match="scale the mesh"):
         call(1e151)
+
+
+def test_a_sliver_with_a_denormal_corner_is_skipped_by_closest_points():
+    # (0,0,0), (1,0,0), (d,d,d) with d = 5e-324: not exactly degenerate, but
+    # its normal's squared length underflows; CGAL's projection made NaN.
+    sliver = np.array([[0.0, 0, 0], [1, 0, 0], [5e-324, 5e-324, 5e-324]])
+    with pytest.raises(pm.InvalidInputError, match="non-zero area"):
+        pm.surface_distance(sliver, np.array([[0, 1, 2]]), V, F)
+    two = np.vstack([sliver, [[0.0, 1, 0]]])
+    d = pm.surface_distance(two, np.array([[0, 1, 2], [0, 1, 3]]), V, F)
+    assert np.isfinite(d.hausdorff)
 
 
 def test_map_through_proxy_refuses_query_points_it_cannot_place():
