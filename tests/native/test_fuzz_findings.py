@@ -5,7 +5,9 @@ to entry points that trusted their arrays (the morph's pieces, simplify,
 surface_distance, extremity_tips, align_sphere_map: SIGSEGV, or SIGFPE from
 GMP inside CGAL's closest-point tree), and a progress that cannot be called
 (a TypeError at its first report, or never at all). Also a sliver whose
-normal's squared length underflows (CGAL's closest point on it was NaN)."""
+normal's squared length underflows (CGAL's closest point on it was NaN),
+and untangle_sphere_map with a huge max_rings (it spun on long after its
+patch covered the mesh)."""
 import numpy as np
 import pytest
 
@@ -110,3 +112,14 @@ def test_valid_inputs_still_answer():
     assert np.isfinite(pm.map_distortion(V, F, SPHERE, V, F, SPHERE).mean)
     assert pm.map_through_proxy(V, V, F, SPHERE).shape == V.shape
     assert pm.surface_distance(V, F, V, F).hausdorff == pytest.approx(0.0, abs=1e-12)
+
+
+def test_untangle_with_a_huge_ring_budget_stops_when_the_patch_covers_the_mesh():
+    X = SPHERE.copy()
+    X[[0, 5]] = X[[5, 0]]  # two vertices swapped: folded faces around both
+    fixed = np.array([], np.int64)
+    small = pm.untangle_sphere_map(V, F, X, fixed, max_rings=10)
+    huge = pm.untangle_sphere_map(V, F, X, fixed, max_rings=2 ** 31 - 1)
+    # An 80-face sphere is covered long before ten rings: the same answer.
+    assert np.array_equal(small[0], huge[0])
+    assert small[1:] == huge[1:]
