@@ -30,6 +30,17 @@ TYPED_ERRORS = ("MeshError", "NotClosedError", "NotOpenError", "NotGenusZeroErro
                 "EmptySelectionError", "WholeMeshSelectedError", "SelectionTopologyError")
 UNTYPED_ERRORS = ("Cancelled", "ComputeError")
 
+# Findings already known and being fixed elsewhere: reported as known, they do
+# not fail a run. Each: (target, error type, regular expression the message
+# must match, why). Remove an entry when its fix lands; a stale one fails the
+# driver's tests only if the target disappears.
+KNOWN_FINDINGS = (
+    ("PasteSession.update", "RuntimeError", r"^Unable to cast Python instance",
+     "update(rotation=..., scale=...) casts a non-float with py::cast (pybind11's cast_error, "
+     "a RuntimeError) instead of a TypeError or InvalidInputError; the paste bindings are "
+     "being reworked (issue 19)"),
+)
+
 # Classes the module returns but that Python cannot construct (no __init__):
 # their methods are still fuzzed, through entries "Class.method" below.
 RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "CorrespondenceCandidate",
@@ -319,13 +330,16 @@ class Gen:
     # options
     def options(self, spec):
         """kwargs from spec {name: kind}: each option omitted, plausible or (chance
-        p_mut) a mutated value of its kind."""
+        p_mut) a mutated value of its kind. A huge iteration budget makes a call
+        run to the time limit, so budgets get one only now and then."""
         out = {}
         for name, kind in spec.items():
             mutated = self.mutate()
             if not mutated and self.chance(0.5):
                 continue
             value = bad_value(self, kind) if mutated else good_value(self, kind)
+            while name in BUDGET_OPTIONS and isinstance(value, int) and value > 10 ** 5 and self.chance(0.8):
+                value = bad_value(self, kind)
             if mutated:
                 self.note(f"{name}={describe(value)}")
             out[name] = value

@@ -196,6 +196,15 @@ def settle(case, outcome):
     return outcome
 
 
+def known(case, outcome):
+    """The KNOWN_FINDINGS entry a finding matches, or None."""
+    for target, error, pattern, why in cases.KNOWN_FINDINGS:
+        if case["target"] == target and outcome.get("error") == error and \
+                re.search(pattern, outcome.get("message", "")):
+            return why
+    return None
+
+
 def signature(case, outcome):
     """What makes two findings the same: target, status, error and its message
     with numbers blanked."""
@@ -272,6 +281,7 @@ def fuzz(args):
     slow_budgets = []
     nonfinite = Counter()
     nonfinite_examples = []
+    known_findings = {}
     worker = None
     start = time.monotonic()
     index = 0
@@ -298,6 +308,12 @@ def fuzz(args):
                     again = alone.run(case, args.call_timeout)
                     alone.close()
                     outcome["reproduced_alone"] = again["status"] == status
+            why_known = known(case, outcome) if status in FINDING_STATUSES else None
+            if why_known:
+                entry = known_findings.setdefault(signature(case, outcome),
+                                                  {"count": 0, "why": why_known, "call": describe_case(case)})
+                entry["count"] += 1
+                outcome["status"] = status = "known"
             per_target[target][status] += 1
             seconds_per_target[target] += outcome.get("seconds", 0.0)
             slowest.append((outcome.get("seconds", 0.0), target, index - 1))
@@ -342,6 +358,7 @@ def fuzz(args):
         "findings": per_signature, "harness_errors": harness_errors[:20],
         "slow_budgets": slow_budgets[:20],
         "nonfinite_outputs": dict(nonfinite), "nonfinite_examples": nonfinite_examples,
+        "known_findings": known_findings,
         "rerun": f"{prefix} --seed {args.seed}" + (f" --only {args.only}" if args.only else "")
                  + f" --cases {index}",
     }
@@ -351,6 +368,8 @@ def fuzz(args):
     if nonfinite:
         print("fuzz: answers holding NaN/inf (not counted as findings; see summary.json): " +
               ", ".join(f"{t} {c}" for t, c in sorted(nonfinite.items())))
+    for key, entry in known_findings.items():
+        print(f"fuzz: known ({entry['count']}x, not failing): {key}\n        {entry['why']}")
     if harness_errors:
         print(f"fuzz: {len(harness_errors)} harness errors (the fuzzer's own specs), first: {harness_errors[0]}")
     if per_signature:

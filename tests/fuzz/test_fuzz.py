@@ -145,3 +145,13 @@ def test_a_short_run_of_validate_has_no_findings(tmp_path):
     summary = (tmp_path / "summary.json").read_text()
     assert code == 0, summary
     assert '"cases": 60' in summary
+
+
+def test_known_findings_name_real_targets_and_errors():
+    for target, error, pattern, why in cases.KNOWN_FINDINGS:
+        assert target in cases.TABLE and why
+        assert error in ("RuntimeError", "MemoryError", "IndexError", "ValueError", "TypeError", "SIGSEGV",
+                         "SIGABRT", "SIGFPE", "")
+    case = {"target": "PasteSession.update"}
+    assert fuzz.known(case, {"error": "RuntimeError", "message": "Unable to cast Python instance to C++ type"})
+    assert not fuzz.known(case, {"error": "RuntimeError", "message": "something else"})
