@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: C++ (CTest), the
-# module (pytest), the Blender-side tests (pytest inside blender -b, and in
-# the PyPI bpy 4.5 module when PyPI is reachable), the one GUI test (a
+# module (pytest), a bounded fuzz run of the module (tests/fuzz), the
+# Blender-side tests (pytest inside blender -b, and in the PyPI bpy 4.5
+# module when PyPI is reachable), the one GUI test (a
 # real Blender window under Xvfb) and, with PyPI, the release: the wheel and
 # extension (scripts/release.sh), the extension installed into Blender 4.5,
 # and the wheel in fresh Debian 12/13 roots (scripts/prove-portable.sh).
@@ -16,6 +17,18 @@ ctest --test-dir "$PARAMORPH_BUILD_DIR" --output-on-failure -j2
 
 echo "== native module tests (pytest)"
 /usr/bin/python3 -m pytest tests/native -q -p no:cacheprovider
+
+echo "== fuzz: the driver's own tests, then a bounded run (tests/fuzz; README, Fuzzing)"
+/usr/bin/python3 -m pytest tests/fuzz -q -p no:cacheprovider
+# A fixed seed (the same cases every run) and one that changes daily (new
+# cases); about 2.5 minutes together (a call in flight at the end, or one past
+# its limit, adds up to 20 s). Each prints its seed, and a finding its
+# case file and replay command.
+fuzz_status=0
+for seed in 0 "${PARAMORPH_FUZZ_SEED:-$(date -u +%Y%m%d)}"; do
+  /usr/bin/python3 tests/fuzz/fuzz.py --seconds 60 --call-timeout 20 --seed "$seed" --out "out/fuzz/seed-$seed" || fuzz_status=1
+done
+[ "$fuzz_status" -eq 0 ] || { echo "fuzz: findings above (case files under out/fuzz)"; exit 1; }
 
 echo "== Blender tests (pytest inside blender -b)"
 blender -b --factory-startup --python-exit-code 1 \

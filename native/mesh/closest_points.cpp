@@ -2,6 +2,7 @@
 #include "mesh/closest_points.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 #include <CGAL/AABB_traits.h>
@@ -30,15 +31,25 @@ struct ClosestPointTree::Tree {
 };
 
 ClosestPointTree::ClosestPointTree(const MatrixX3d& V, const MatrixX3i& F)
-    : tree_(std::make_unique<Tree>()), V_(V), F_(F) {
+    : tree_(std::make_unique<Tree>()), F_(F) {
   PM_REQUIRE(V.allFinite() && F.rows() > 0, InvalidInputError, "closest points need a finite mesh with faces");
-  auto point = [&V](Index v) { return Point(V(v, 0), V(v, 1), V(v, 2)); };
+  // Squared lengths and the projections of a closest-point construction
+  // overflow (or underflow) far short of double's range; a power of two
+  // brings the largest coordinate into [1, 2) without rounding anything.
+  const double largest = V.size() ? V.cwiseAbs().maxCoeff() : 0.0;
+  if (largest > 0) scale_ = std::ldexp(1.0, -std::ilogb(largest));
+  V_ = V * scale_;
+  auto point = [this](Index v) { return Point(V_(v, 0), V_(v, 1), V_(v, 2)); };
   for (Index f = 0; f < Index(F.rows()); ++f) {
     PM_REQUIRE((F.row(f).array() >= 0).all() && (F.row(f).array() < V.rows()).all(), InvalidInputError,
                "face ", f, " has a vertex index out of range");
     const Triangle t(point(F(f, 0)), point(F(f, 1)), point(F(f, 2)));
     tree_->triangle.push_back(-1);
-    if (t.is_degenerate()) continue;
+    // A sliver whose normal's squared length is below 1e-150 (coordinates in
+    // [1, 2)) is degenerate to any rounding, and CGAL's projection onto its
+    // plane divides by that length: inf and NaN, then GMP aborts on NaN.
+    const Eigen::RowVector3d a = V_.row(F(f, 0));
+    if (t.is_degenerate() || (V_.row(F(f, 1)) - a).cross(V_.row(F(f, 2)) - a).squaredNorm() < 1e-150) continue;
     tree_->triangle.back() = Index(tree_->triangles.size());
     tree_->triangles.push_back(t);
     tree_->face.push_back(f);
@@ -58,13 +69,17 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
              "a hint must answer as many queries (", n, ")");
   ClosestPoints out{VectorXi(n), MatrixX3d(n, 3), MatrixX3d(n, 3), VectorXd(n)};
   for (Index i = 0; i < n; ++i) {
-    const Point q(Q(i, 0), Q(i, 1), Q(i, 2));
+    const Eigen::RowVector3d qi = Q.row(i) * scale_;
+    PM_REQUIRE(qi.allFinite() && qi.cwiseAbs().maxCoeff() <= 1e100, InvalidInputError, "closest points: query ", i,
+               " (", Q(i, 0), ", ", Q(i, 1), ", ", Q(i, 2), ") is not finite or too far from the mesh");
+    const Point q(qi[0], qi[1], qi[2]);
     Index hinted = hint && hint->face[i] >= 0 && hint->face[i] < Index(tree_->triangle.size())
                        ? tree_->triangle[hint->face[i]] : -1;
     const auto [p, it] =
         hinted >= 0
             ? tree_->tree.closest_point_and_primitive(
-                  q, std::make_pair(Point(hint->points(i, 0), hint->points(i, 1), hint->points(i, 2)),
+                  q, std::make_pair(Point(hint->points(i, 0) * scale_, hint->points(i, 1) * scale_,
+                                          hint->points(i, 2) * scale_),
                                     tree_->triangles.cbegin() + hinted))
             : tree_->tree.closest_point_and_primitive(q);
     const std::size_t t = std::size_t(it - tree_->triangles.cbegin());
@@ -80,8 +95,8 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
     u /= s, w /= s;
     out.face[i] = f;
     out.bary.row(i) << 1.0 - u - w, u, w;
-    out.points.row(i) = x;
-    out.distance[i] = (x - Q.row(i)).norm();
+    out.points.row(i) = x / scale_;
+    out.distance[i] = (x - qi).norm() / scale_;
   }
   return out;
 }

@@ -18,8 +18,12 @@ struct ClosestPoints {
 };
 
 /// Solver object: `ClosestPointTree tree(V, F)` once, then `tree.query(Q)`.
-/// V, F: a triangle mesh (#V by 3, #F by 3, 0-based; faces of zero area are
-/// skipped). Q: #Q by 3 query points.
+/// V, F: a triangle mesh (#V by 3, #F by 3, 0-based; faces of zero area, or
+/// slivers whose area is zero to rounding, are skipped). Q: #Q by 3 finite query points. The tree works on V scaled by a
+/// power of two to a largest coordinate in [1, 2) (exact, so answers are the
+/// same), so coordinates near 1e150 or 1e-150 do not overflow or underflow
+/// CGAL's constructions; queries farther than 1e100 times that from the
+/// origin raise InvalidInputError.
 class ClosestPointTree {
  public:
   ClosestPointTree(const MatrixX3d& V, const MatrixX3i& F);
@@ -33,8 +37,9 @@ class ClosestPointTree {
  private:
   struct Tree;
   std::unique_ptr<Tree> tree_;
-  MatrixX3d V_;
+  MatrixX3d V_;         ///< V times scale_
   MatrixX3i F_;
+  double scale_ = 1.0;  ///< a power of two
 };
 
 }  // namespace paramorph

@@ -13,6 +13,7 @@
 
 #include "common/errors.h"
 #include "mesh/types.h"
+#include "mesh/validate.h"
 
 namespace paramorph::python {
 
@@ -104,6 +105,39 @@ inline std::vector<std::array<Index, 2>> to_index_pairs(const py::handle& obj, c
       out[k][j] = Index(v);
     }
   return out;
+}
+
+/// A mesh's arrays checked as validate_arrays does (not empty, finite
+/// coordinates whose face areas neither overflow nor underflow, indices in
+/// range), before any work; `mesh` ("A", "proxy") prefixes the message when
+/// a function takes several meshes. For the entry points whose core function
+/// trusts its arrays (the morph's pieces, simplify, extremity_tips).
+inline void require_mesh(const MatrixX3d& V, const MatrixX3i& F, const char* mesh = nullptr) {
+  if (mesh)
+    for_mesh(mesh, [&] { validate_arrays(V, F); });
+  else
+    validate_arrays(V, F);
+}
+
+/// Points on the unit sphere (a sphere map, points to read through one):
+/// finite, of length within a factor 2 of 1 (rounding, float32 or a map
+/// not quite renormalised pass; a zero row, or one at 1e200 among unit
+/// ones, does not), and `rows` of them when rows >= 0 ("one per vertex of <of>").
+inline void require_directions(const MatrixX3d& X, const char* name, Index rows = -1, const char* of = "the mesh") {
+  PM_REQUIRE(rows < 0 || X.rows() == rows, InvalidInputError, name, ": one sphere point per vertex of ", of, " (",
+             rows, ") is needed, got ", X.rows());
+  for (Index i = 0; i < X.rows(); ++i) {
+    const double length = X.row(i).allFinite() ? X.row(i).norm() : 0.0;
+    PM_REQUIRE(length >= 0.5 && length <= 2.0, InvalidInputError, name, " row ", i, " (", X(i, 0), ", ", X(i, 1),
+               ", ", X(i, 2), ") is not a direction: points on the unit sphere are needed");
+  }
+}
+
+/// Points in space (query points): finite and within validate_arrays' range.
+inline void require_points(const MatrixX3d& P, const char* name) {
+  for (Index i = 0; i < P.rows(); ++i)
+    PM_REQUIRE(P.row(i).allFinite() && P.row(i).cwiseAbs().maxCoeff() <= 1e150, InvalidInputError, name, " row ",
+               i, " is not a finite point within 1e150 (", P(i, 0), ", ", P(i, 1), ", ", P(i, 2), ")");
 }
 
 /// Eigen row-major matrix -> new numpy array (copy; results are small relative to solves).

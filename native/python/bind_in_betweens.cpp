@@ -88,6 +88,8 @@ mismatched or malformed arrays.)doc")
       [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB) {
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
+        require_mesh(va, fa, "A");
+        require_mesh(vb, fb, "B");
         py::gil_scoped_release release;
         return surface_distance(va, fa, vb, fb);
       },

@@ -134,6 +134,7 @@ edges (as vertex pairs) or faces to fix.)doc");
       [](const py::object& V, const py::object& F, Index target_faces) {
         const MatrixX3d v = to_vertices(V, "V");
         const MatrixX3i f = to_faces(F, "F");
+        require_mesh(v, f);
         SimplifiedMesh out;
         {
           py::gil_scoped_release release;

@@ -142,6 +142,7 @@ void def_align_sphere_map(py::module_& m) {
         if (!target.is_none()) o.target = to_vertices(target, "target");
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
+        require_mesh(v, f);  // before the radial projection reads V through F
         const MatrixX3d s = to_vertices(sphere, "sphere");
         const std::vector<Index> paired = to_indices(vertices, "vertices");
         const MatrixX3d t = to_vertices(targets, "targets");
@@ -183,6 +184,10 @@ void def_map_distortion(py::module_& m) {
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(sphere_b, "sphere_b");
+        require_mesh(va, fa, "A");
+        require_mesh(vb, fb, "B");
+        require_directions(sa, "sphere_a", va.rows(), "A");
+        require_directions(sb, "sphere_b", vb.rows(), "B");
         py::gil_scoped_release release;
         return morph::map_distortion(va, fa, sa, vb, fb, sb, cap);
       },
@@ -234,6 +239,9 @@ len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
       [](const py::object& V, const py::object& proxy_V, const py::object& proxy_F, const py::object& proxy_map) {
         const MatrixX3d v = to_vertices(V, "V"), pv = to_vertices(proxy_V, "proxy_V"), pm_ = to_vertices(proxy_map, "proxy_map");
         const MatrixX3i pf = to_faces(proxy_F, "proxy_F");
+        require_points(v, "V");
+        require_mesh(pv, pf, "proxy");
+        require_directions(pm_, "proxy_map", pv.rows(), "the proxy");
         MatrixX3d out;
         {
           py::gil_scoped_release release;
@@ -272,6 +280,9 @@ len(pinned_vertices) points) and ends exactly on to_points[k].)doc");
         const MatrixX3d va = to_vertices(VA, "VA");
         const MatrixX3i fa = to_faces(FA, "FA");
         const MatrixX3d sa = to_vertices(sphere_a, "sphere_a"), sb = to_vertices(points, "points");
+        require_mesh(va, fa, "A");
+        require_directions(sa, "sphere_a", va.rows(), "A");
+        require_directions(sb, "points");
         MatrixX3d carried;
         {
           py::gil_scoped_release release;

@@ -195,6 +195,7 @@ void def_extremity_tips(py::module_& m) {
       [](const py::object& V, const py::object& F, const Segmentation& segmentation, double prominence) {
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
+        require_mesh(v, f);
         py::gil_scoped_release release;
         return features::extremity_tips(v, f, segmentation, prominence);
       },

@@ -28,6 +28,8 @@ void def_isometric_sphere_map(py::module_& m) {
          py::object progress) {
         const MatrixX3d v = to_vertices(V), s = to_vertices(start, "start");
         const MatrixX3i f = to_faces(F);
+        require_mesh(v, f);
+        require_directions(s, "start", v.rows());
         spherical::IsometricSphereOptions o;
         o.max_steps = max_steps;
         o.tol = tol;

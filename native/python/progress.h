@@ -5,6 +5,7 @@
 
 #include <exception>
 #include <optional>
+#include <string>
 
 #include "common/errors.h"
 #include "common/progress.h"
@@ -23,6 +24,11 @@ namespace py = pybind11;
 class PythonProgress {
  public:
   explicit PythonProgress(py::object callable) : callable_(std::move(callable)) {
+    // Checked here, before any work: a value that cannot be called would
+    // otherwise fail only at the first report, or never on a small input.
+    PM_REQUIRE(callable_.is_none() || PyCallable_Check(callable_.ptr()), InvalidInputError,
+               "progress must be None or a callable(fraction, stage), got a ",
+               std::string(py::str(py::type::of(callable_).attr("__name__"))));
     if (!callable_.is_none())
       progress_.emplace(
           [this](double fraction, const std::string& stage) {

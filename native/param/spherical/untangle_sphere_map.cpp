@@ -30,7 +30,7 @@ std::vector<Index> grow(const TriMesh& mesh, const std::vector<Index>& seeds, in
   std::vector<char> in(std::size_t(F.rows()), 0);
   std::vector<Index> front = seeds;
   for (const Index f : seeds) in[std::size_t(f)] = 1;
-  for (int r = 0; r < rings; ++r) {
+  for (int r = 0; r < rings && !front.empty(); ++r) {
     std::vector<Index> next;
     for (const Index f : front)
       for (int k = 0; k < 3; ++k) {
@@ -184,9 +184,14 @@ SphereUntangleResult untangle_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
         }
     }
     bool done = false;
+    std::size_t last_patch = 0;
     for (int rings = o.first_rings; rings <= o.max_rings && !done; ++rings) {
-      MatrixX3d trial = X;
       const std::vector<Index> patch = grow(mesh, cluster, rings);
+      // Once the patch holds its whole piece of the surface, another ring
+      // would try the same patch again (and a huge max_rings would spin).
+      if (patch.size() == last_patch) break;
+      last_patch = patch.size();
+      MatrixX3d trial = X;
       if (untangle_patch(V, F, trial, fixed, patch, o.max_patch_angle)) {
         // Untangling leaves slivers (a later flow turns them over at the
         // slightest shear): smooth the patch's free vertices.
