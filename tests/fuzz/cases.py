@@ -47,7 +47,7 @@ RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "CorrespondenceCandidat
                 "ExtremityTips", "Feature", "FeatureMatch", "FeaturePoints",
                 "IsometricSphereMap", "MapDistortion", "MergedTopology", "MeshReport", "Morph",
                 "MorphCorrespondence", "OptimizedSphereMap", "OverlayStats", "PlanarMap",
-                "RefinedRegion", "RegionGraph", "Segmentation", "SelfIntersections",
+                "RefinedRegion", "RegionGraph", "RepairReport", "RepairResult", "Segmentation", "SelfIntersections",
                 "SphereFlow", "SphereMap", "SurfaceDistance", "WeldStats")
 
 NAN, INF = float("nan"), float("inf")
@@ -941,6 +941,9 @@ TABLE = {
     "overlay": gen_overlay,
     "refine_region": gen_refine_region,
     "region_graph": gen_region_graph,
+    "repair": _mesh_only("any", {"weld_tolerance": ("float", 0.0, 1e-2), "fill_holes": ("bool",),
+                                 "orient_outward": ("bool",), "keep_largest_component": ("bool",),
+                                 "progress": PROGRESS}),
     "require_closed_genus0": _mesh_only("any", {"relative_area_tolerance": ("float", 1e-16, 1e-6)}),
     "sample_feature": gen_sample_feature,
     "segment_extremities": gen_segment_extremities,
