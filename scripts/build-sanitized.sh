@@ -27,4 +27,5 @@ module=$(ls "$build_dir"/python/paramorph_native*.so)
 # libasan has to be loaded first (LD_PRELOAD) in any process importing it.
 ldd "$module" | grep -q libasan || { echo "build-sanitized: $module does not link libasan" >&2; exit 1; }
 echo "paramorph: built $module (ASan/UBSan)"
-echo "run:  tests/fuzz/fuzz.py --build-dir $build_dir --seconds 300   (sets LD_PRELOAD=$(gcc -print-file-name=libasan.so))"
+echo "run:  tests/fuzz/fuzz.py --build-dir $build_dir --seconds 300 --call-timeout 120"
+echo "      (its workers get LD_PRELOAD=$(gcc -print-file-name=libasan.so):$(gcc -print-file-name=libstdc++.so))"

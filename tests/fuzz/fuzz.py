@@ -66,12 +66,19 @@ def sanitized(build_dir):
     return cache.exists() and "fsanitize=address" in cache.read_text(errors="replace")
 
 
-def asan_runtime():
-    out = subprocess.run(["gcc", "-print-file-name=libasan.so"], capture_output=True, text=True)
+def gcc_library(name):
+    out = subprocess.run(["gcc", f"-print-file-name={name}"], capture_output=True, text=True)
     path = out.stdout.strip()
     if not path or not Path(path).exists():
-        sys.exit("fuzz: the build is sanitized but gcc -print-file-name=libasan.so found no runtime")
+        sys.exit(f"fuzz: the build is sanitized but gcc -print-file-name={name} found nothing")
     return str(Path(path).resolve())
+
+
+def asan_preload():
+    """libasan first (Python is not instrumented), then libstdc++: Python does not
+    link it, and without it loaded when ASan starts, ASan's __cxa_throw
+    interceptor finds no real __cxa_throw and every C++ exception aborts."""
+    return f"{gcc_library('libasan.so')}:{gcc_library('libstdc++.so')}"
 
 
 def worker_environment(build_dir):
@@ -79,7 +86,7 @@ def worker_environment(build_dir):
     env.update(cases.environment_defaults())
     env.setdefault("PYTHONFAULTHANDLER", "1")
     if sanitized(build_dir):
-        env["LD_PRELOAD"] = asan_runtime()
+        env["LD_PRELOAD"] = asan_preload()
         for name, value in SANITIZER_OPTIONS.items():
             env[name] = env.get(name) or value
     return env
