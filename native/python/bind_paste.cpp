@@ -434,8 +434,18 @@ Raises InvalidInputError, NonManifoldError, DegenerateFaceError, TargetTooSmallE
           "update",
           [](PasteSession& s, const py::object& anchor, const py::object& rotation, const py::object& scale) {
             const Eigen::Vector3d a = anchor.is_none() ? s.options().anchor : to_point(anchor, "anchor");
-            const double r = rotation.is_none() ? s.options().rotation : rotation.cast<double>();
-            const double k = scale.is_none() ? s.options().scale : scale.cast<double>();
+            // A number or None; anything else is the caller's mistake, said as one
+            // (py::cast raised an untyped "Unable to cast Python instance").
+            const auto number = [](const py::object& value, const char* name, double keep) {
+              if (value.is_none()) return keep;
+              PM_REQUIRE(PyFloat_Check(value.ptr()) || PyLong_Check(value.ptr()) ||
+                             py::isinstance(value, py::module_::import("numpy").attr("number")),
+                         InvalidInputError, name, " must be a number or None, got ",
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+              return value.cast<double>();
+            };
+            const double r = number(rotation, "rotation", s.options().rotation);
+            const double k = number(scale, "scale", s.options().scale);
             py::gil_scoped_release release;
             s.update(a, r, k);
           },

@@ -34,12 +34,7 @@ UNTYPED_ERRORS = ("Cancelled", "ComputeError")
 # not fail a run. Each: (target, error type, regular expression the message
 # must match, why). Remove an entry when its fix lands; a stale one fails the
 # driver's tests only if the target disappears.
-KNOWN_FINDINGS = (
-    ("PasteSession.update", "RuntimeError", r"^Unable to cast Python instance",
-     "update(rotation=..., scale=...) casts a non-float with py::cast (pybind11's cast_error, "
-     "a RuntimeError) instead of a TypeError or InvalidInputError; the paste bindings are "
-     "being reworked (issue 19)"),
-)
+KNOWN_FINDINGS = ()  # (function, error type, message regex, why): none open
 
 # Classes the module returns but that Python cannot construct (no __init__):
 # their methods are still fuzzed, through entries "Class.method" below.

@@ -123,3 +123,16 @@ def test_untangle_with_a_huge_ring_budget_stops_when_the_patch_covers_the_mesh()
     # An 80-face sphere is covered long before ten rings: the same answer.
     assert np.array_equal(small[0], huge[0])
     assert small[1:] == huge[1:]
+
+
+@pytest.mark.parametrize("bad", ["1.5", 1j, [1.0], np.zeros(2)], ids=repr)
+def test_paste_update_refuses_a_rotation_or_scale_that_is_not_a_number(bad):
+    # pybind11's cast raised an untyped "Unable to cast Python instance".
+    V, F, faces = meshes.bump_plane(n=30)
+    feature = pm.extract_feature(V, F, faces, resolution=32, backend="cpu")
+    T, TF = meshes.plane_grid(n=30, half=2.0)
+    session = pm.PasteSession(T, TF, feature, anchor=np.array([0.0, 0.0, 0.0]))
+    for name in ("rotation", "scale"):
+        with pytest.raises(pm.InvalidInputError, match=f"{name} must be a number or None"):
+            session.update(**{name: bad})
+    session.update(rotation=np.float32(0.1), scale=1)  # numpy and int numbers still work
