@@ -11,8 +11,8 @@ import numpy as np
 
 from .native import native
 
-# The operators' "Repair" option (Sphere Map, Segment Extremities, Detect
-# Feature Regions, Preview Matches, Morph To).
+# The operators' "Repair" option (Sphere Map, Segment Extremities, Rank Similar
+# Shapes, Preview Matches, Morph To).
 REPAIR_PROPERTY = bpy.props.BoolProperty(
     name="Repair", default=True,
     description="Mend the mesh for the computation first: merge split seams, drop duplicate faces, turn "
