@@ -4,7 +4,7 @@ would in the UI, and writes the result.
     blender -b --factory-startup --python <addons>/paramorph/cli.py -- COMMAND IN OUT [options]
 
     sphere  IN OUT [--weights conformal|barycentric] [--no-shape-key] [--no-repair]
-    unwrap  IN OUT [--max-iterations N] [--margin M]
+    unwrap  IN OUT [--max-iterations N] [--margin M] [--pins place|exact]
     segment IN OUT [--mode extremities|features] [--threshold T] [--min-area A] [--no-repair]
                    [--normal-angle DEG] [--concavity-threshold C] [--spacing S]
     common: [--object NAME ...] [--backend auto|cpu|opencl]
@@ -120,6 +120,9 @@ def build_parser():
                                       "(pinned UVs stay where they are)")
     unwrap.add_argument("--max-iterations", type=int, metavar="N")
     unwrap.add_argument("--margin", type=float, metavar="M")
+    unwrap.add_argument("--pins", choices=("place", "exact"), default="place",
+                        help="pinned UVs place and turn their island, sized by the surface (default), "
+                             "or stay exactly where they are")
 
     segment = commands.add_parser("segment", parents=[common],
                                   help="regions in face attribute 'paramorph_region'")
@@ -412,7 +415,7 @@ def sphere(args, obj):
 
 
 def unwrap_options(args):
-    options = {}
+    options = {"pin_mode": args.pins.upper()}
     if args.max_iterations is not None:
         options["max_iterations"] = args.max_iterations
     if args.margin is not None:

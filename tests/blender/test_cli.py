@@ -235,7 +235,7 @@ def test_unwrap_keeps_pins_and_folds_nothing(cli, tmp_path):
     src, out = tmp_path / "disc.blend", tmp_path / "disc_unwrapped.blend"
     save_blend(src)
 
-    proc = run_cli(cli, tmp_path, "unwrap", src, out, "--max-iterations", "300")
+    proc = run_cli(cli, tmp_path, "unwrap", src, out, "--max-iterations", "300", "--pins", "exact")
     assert proc.returncode == 0, output(proc)
     assert "paramorph unwrap: PinnedDisc: UV layer 'UVMap'" in proc.stdout
     open_output(out)
