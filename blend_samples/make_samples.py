@@ -162,6 +162,21 @@ def build_paste_pair():
     return source, target
 
 
+def write_uvs_and_pins(mesh, uv, pins):
+    """Per-loop UVs (L, 2) and pinned flags (L,) into the "UVMap" layer (made
+    if missing, then active)."""
+    layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
+    mesh.uv_layers.active = layer
+    if hasattr(layer, "pin"):  # 3.5+: the attribute API; on 4.5 the old
+        # MeshUVLoop "pin_uv" foreach_set corrupts the heap (checked)
+        layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
+        layer.pin.foreach_set("value", pins)
+    else:
+        layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
+        layer.data.foreach_set("pin_uv", pins)
+    mesh.update()
+
+
 def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     """A bumpy disc (a grid cut to a circle and lifted) with a UV layer whose
     four boundary extremes are pinned at the corners of the unit square."""
@@ -183,16 +198,7 @@ def build_pinned_disc(name="PinnedDisc", subdivisions=12):
     pins = np.isin(loop_vertex, pinned_vertices)
     # primitive_grid_add already made a "UVMap" (its own grid UVs): write
     # into that one, so the pins are on the active layer the unwrap uses.
-    layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
-    mesh.uv_layers.active = layer
-    if hasattr(layer, "pin"):  # 3.5+: the attribute API; on 4.5 the old
-        # MeshUVLoop "pin_uv" foreach_set corrupts the heap (checked)
-        layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
-        layer.pin.foreach_set("value", pins)
-    else:
-        layer.data.foreach_set("uv", uv.astype(np.float32).ravel())
-        layer.data.foreach_set("pin_uv", pins)
-    mesh.update()
+    write_uvs_and_pins(mesh, uv, pins)
     return obj
 
 

@@ -36,6 +36,20 @@ def key_times(in_betweens):
     return [(i + 1) / (in_betweens + 1) for i in range(in_betweens + 1)]
 
 
+def _repair_both(VA, FA, VB, FB, progress, options, repair):
+    """With `repair`: both meshes mended (the first tenth of the progress) and
+    the pins and pairs in `options` carried onto them, in place. Returns
+    (Repaired A or None, Repaired B or None, the four arrays to compute on)."""
+    if not repair:
+        return None, None, (VA, FA, VB, FB)
+    fixed_a = repair_mesh.repair(VA, FA, progress, share=0.05)
+    fixed_b = repair_mesh.repair(VB, FB, lambda f, stage: progress(0.05 + 0.05 * f, stage), share=1.0)
+    for name, what in (("pins", "pin"), ("pairs", "pair")):
+        if options.get(name) is not None:
+            options[name] = fixed_a.vertex_pairs_forward(options[name], fixed_b, what)
+    return fixed_a, fixed_b, (fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F)
+
+
 def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpolation="ARAP",
                            target_transform=None, to_local=None, keep_topology=False, repair=False, **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
@@ -48,15 +62,8 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     meshes first (repair_mesh; pins and pairs are carried onto the mended
     meshes). progress(fraction, stage) -> False cancels (native.Cancelled),
     also between in-betweens."""
-    fixed_a = fixed_b = None
-    if repair:
-        fixed_a = repair_mesh.repair(VA, FA, progress, share=0.05)
-        fixed_b = repair_mesh.repair(VB, FB, lambda f, stage: progress(0.05 + 0.05 * f, stage), share=1.0)
-        for name, what in (("pins", "pin"), ("pairs", "pair")):
-            if options.get(name) is not None:
-                options[name] = fixed_a.vertex_pairs_forward(options[name], fixed_b, what)
-        VA_in = np.asarray(VA, dtype=np.float64)
-        VA, FA, VB, FB = fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F
+    VA_in = np.asarray(VA, dtype=np.float64)
+    fixed_a, fixed_b, (VA, FA, VB, FB) = _repair_both(VA, FA, VB, FB, progress, options, repair)
     start = 0.1 if repair else 0.0
     share = 0.85 if in_betweens and interpolation == "ARAP" else 1.0
     result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(start + (share - start) * f, stage),
@@ -100,13 +107,7 @@ def correspondence(VA, FA, VB, FB, *, progress, repair=False, **options):
     """native.morph_correspondence (Preview Matches), after mending both
     meshes when `repair`. Returns (result, repaired_a, repaired_b); the
     result's pairs are on the mended meshes' vertices then."""
-    fixed_a = fixed_b = None
-    if repair:
-        fixed_a = repair_mesh.repair(VA, FA, progress, share=0.05)
-        fixed_b = repair_mesh.repair(VB, FB, lambda f, stage: progress(0.05 + 0.05 * f, stage), share=1.0)
-        if options.get("pins") is not None:
-            options["pins"] = fixed_a.vertex_pairs_forward(options["pins"], fixed_b)
-        VA, FA, VB, FB = fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F
+    fixed_a, fixed_b, (VA, FA, VB, FB) = _repair_both(VA, FA, VB, FB, progress, options, repair)
     start = 0.1 if repair else 0.0
     result = native.morph_correspondence(
         VA, FA, VB, FB, progress=lambda f, stage: progress(start + (1.0 - start) * f, stage), **options)

@@ -176,17 +176,9 @@ def test_two_pins_from_a_unit_layout_place_and_turn_the_island_at_the_layouts_de
     co = co.reshape(-1, 3)
     # The layout it had: the grid stretched into [0, 1]^2 (texel density sqrt(1/8) by area).
     layout = np.stack([(co[loop_vertex, 0] + 2.0) / 4.0, (co[loop_vertex, 1] + 1.0) / 2.0], axis=1)
-    layer = mesh.uv_layers.get("UVMap") or mesh.uv_layers.new(name="UVMap")
-    mesh.uv_layers.active = layer
     corners = [int(np.argmin(np.linalg.norm(co - p, axis=1))) for p in ([-2, -1, 0], [2, -1, 0])]
     pinned = np.isin(loop_vertex, corners)
-    if hasattr(layer, "pin"):  # as make_samples.build_pinned_disc: 4.5's "pin_uv" foreach_set corrupts the heap
-        layer.uv.foreach_set("vector", layout.astype(np.float32).ravel())
-        layer.pin.foreach_set("value", pinned)
-    else:
-        layer.data.foreach_set("uv", layout.astype(np.float32).ravel())
-        layer.data.foreach_set("pin_uv", pinned)
-    mesh.update()
+    make_samples.write_uvs_and_pins(mesh, layout, pinned)
     density = np.sqrt(triangle_uv_areas(mesh, layout, np.ones(len(mesh.polygons), bool)).sum() / 8.0)
     capfd.readouterr()
     assert unwrap(obj) == {"FINISHED"}
