@@ -2,6 +2,7 @@
 mesh and the Blender tool that fixes it, instead of a traceback."""
 import numpy as np
 
+from . import blender_numbers
 from .native import native
 
 
@@ -9,11 +10,13 @@ def _count(n, word):
     return f"{n} {word}{'' if n == 1 else 's'}"
 
 
-def describe(error, V=None, F=None, repair=None):
+def describe(error, V=None, F=None, repair=None, numbering=None):
     """A one-line message for `error`; V, F (the arrays sent to the native
     call) let it count holes and components. repair: None when the operator
-    has no Repair option, else whether it was on (the advice differs)."""
-    text = _describe(error, V, F, repair)
+    has no Repair option, else whether it was on (the advice differs).
+    numbering: a blender_numbers.MeshNumbering of the mesh V, F came from,
+    to name its elements as Blender numbers them."""
+    text = _describe(error, V, F, repair, numbering)
     if repair is False and native is not None and isinstance(
             error, (native.NotClosedError, native.DisconnectedError, native.NonManifoldError,
                     native.DegenerateFaceError)):
@@ -31,7 +34,7 @@ def _coincident_vertices(V, F):
     return len(points) - len(np.unique(points, axis=0))
 
 
-def _describe(error, V, F, repair):
+def _describe(error, V, F, repair, numbering):
     pm = native
     if pm is None:
         return str(error)
@@ -69,6 +72,11 @@ def _describe(error, V, F, repair):
         parts = report.components if report is not None and report.components > 1 else None
         head = f"mesh has {_count(parts, 'separate part')}" if parts else "mesh has separate parts"
         return f"{head}: separate them (Separate > By Loose Parts) or delete loose geometry first"
+    if numbering is not None and report is not None and isinstance(error, (pm.NonManifoldError,
+                                                                           pm.DegenerateFaceError)):
+        text = blender_numbers.describe_problem(str(error), report, numbering)
+        if text is not None:
+            return text
     # The native messages already say what is wrong and how to select it: wrapped
     # again they said "not manifold" twice.
     if isinstance(error, pm.NonManifoldError):

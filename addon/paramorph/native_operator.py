@@ -7,8 +7,9 @@ failed run leaves the mesh exactly as it was."""
 import time
 
 import bpy
+import numpy as np
 
-from . import bridge, messages, poll_reasons
+from . import blender_numbers, bridge, messages, poll_reasons
 from .jobs import NativeJob
 from .native import load_error, native
 
@@ -27,6 +28,18 @@ def remaining_words(elapsed, fraction):
     if left < 60:
         return f"  about {max(5, int(round(left / 5)) * 5)} s left"
     return f"  about {int(round(left / 60))} min left"
+
+
+def numbering_of(object_name, F):
+    """blender_numbers.MeshNumbering of the named object's mesh, whose loop
+    triangles `F` were sent; None when it is gone or no longer has them."""
+    obj = bpy.data.objects.get(object_name) if object_name else None
+    if obj is None or obj.type != "MESH" or F is None:
+        return None
+    _, triangles, tri_poly, _ = bridge.mesh_arrays(obj.data, polygons=True)
+    if triangles.shape != np.shape(F) or not np.array_equal(triangles, F):
+        return None
+    return blender_numbers.MeshNumbering(obj.data, tri_poly, triangles)
 
 
 class NativeOperator:
@@ -69,7 +82,9 @@ class NativeOperator:
     def describe_error(self, error, state):
         """The report for a failed native call (state["arrays"]: the mesh sent)."""
         arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
-        return messages.describe(error, *arrays, repair=getattr(self, "repair", None))
+        name = state.get("object") if isinstance(state, dict) else None
+        return messages.describe(error, *arrays, repair=getattr(self, "repair", None),
+                                 numbering=numbering_of(name, arrays[1]))
 
     def execute(self, context):
         prepared = self._prepare_or_report(context)

@@ -17,7 +17,7 @@ from mathutils.bvhtree import BVHTree
 from . import bridge, feature_store, messages, paste_mesh, paste_preview, poll_reasons, regions, view_ray
 from .jobs import NativeJob
 from .native import load_error, native
-from .native_operator import NativeOperator, UserError
+from .native_operator import NativeOperator, UserError, numbering_of
 from .preferences import backend
 
 ROTATE_STEP = math.radians(15.0)
@@ -280,7 +280,8 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         return obj, datablock, feature, V, F, tri_poly
 
     def _describe(self, error, V, F):
-        return messages.describe(error, V, F)
+        obj = bpy.context.active_object
+        return messages.describe(error, V, F, numbering=numbering_of(obj.name if obj else None, F))
 
     def _write(self, context, obj, datablock, V, F, tri_poly, session):
         V2, F2, new_faces = session.result()
