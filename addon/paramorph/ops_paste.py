@@ -85,6 +85,9 @@ def cursor_in_object(context, obj):
 
 # Smaller sizes a paste tries, in turn, where the feature does not fit.
 SMALLER = (0.7, 0.5, 0.35, 0.25)
+# Halvings of the way from the last place that fitted towards the mouse
+# where the mouse's place does not fit (1/32 of the way: a few pixels).
+BISECTIONS = 5
 
 
 def _why_not(error):
@@ -137,13 +140,15 @@ class PasteController:
         self.V, self.F, self.tri_poly = V, F, tri_poly
         self.rotation, self.scale = float(rotation), float(scale)
         self.message = ""
+        self._refusal = ("", "")  # (why, hint) of the last refusal
         self._anchor = np.asarray(session.anchor_point, dtype=np.float64)
 
     def _update(self, **placement):
         try:
             self.session.update(**placement)
         except native.TargetTooSmallError as error:
-            self.message = f"does not fit there: {_why_not(error)}" + self._smaller_hint(placement)
+            self._refusal = (_why_not(error), self._smaller_hint(placement))
+            self.message = "does not fit there: {}{}".format(*self._refusal)
             return False
         except native.InvalidInputError as error:
             self.message = str(error)
@@ -172,7 +177,29 @@ class PasteController:
         return "; try a flatter place"
 
     def move(self, point):
-        return self._update(anchor=np.asarray(point, dtype=np.float64))
+        """Slides the feature to `point`; where it does not fit there, as far
+        towards it as it fits (the nearest place along the way from the last
+        place, halved BISECTIONS times), saying so: the tool follows the
+        mouse up to the edge instead of stopping short (issue 20)."""
+        point = np.asarray(point, dtype=np.float64)
+        if self._update(anchor=point):
+            return True
+        why, hint = self._refusal if self.message.startswith("does not fit") else (self.message, "")
+        start, reached = self._anchor.copy(), 0.0
+        low, high = 0.0, 1.0
+        for _ in range(BISECTIONS):
+            middle = 0.5 * (low + high)
+            try:
+                self.session.update(anchor=start + middle * (point - start))
+            except (native.TargetTooSmallError, native.InvalidInputError):
+                high = middle
+                continue
+            low = reached = middle
+        if reached == 0.0:
+            return False
+        self._anchor = start + reached * (point - start)
+        self.message = f"does not fit at the mouse ({why}): shown as near as it fits{hint}"
+        return True
 
     def rotate(self, angle):
         return self._update(rotation=self.rotation + angle)

@@ -439,3 +439,34 @@ def test_at_subdivision_level_0_the_feature_moves_vertices_and_keeps_every_face(
     assert np.all(np.linalg.norm(V0[moved] - [0, 0, 1.6], axis=1) < 2.0 * feature.radius + 0.05)
     assert np.all(edge_face_counts(mesh) == 2)
     assert regions.selected_polygons(mesh).sum() > 0
+
+
+def test_dragging_past_the_edge_follows_the_mouse_as_far_as_the_feature_fits():
+    native()
+    copy_boss()
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=48, y_subdivisions=48, size=5.0)
+    target = bpy.context.active_object  # open: a paste at its corner would hang over the edge
+    activate(target)
+    feature, _ = ops_paste.load_feature("")
+    V, F, tri_poly = ops_paste.target_arrays(bpy.context, target)
+    session, scale, note = ops_paste.build_fitting_session(V, F, feature, anchor=np.zeros(3), scale=1.0,
+                                                           progress=None)
+    assert scale == 1.0 and note == ""
+    controller = ops_paste.PasteController(session, V, F, tri_poly, 0.0, 1.0)
+    corner = np.array([2.5, 2.5, 0.0])
+    assert controller.handle(event("MOUSEMOVE", "NOTHING"), lambda: corner) == "UPDATED"
+    reached = np.array(session.anchor_point)
+    along = reached @ corner / (corner @ corner)
+    # Slid towards the corner (not left at the start) and stopped short of it.
+    assert 0.3 < along < 0.9 and np.linalg.norm(reached - along * corner) < 0.05, reached
+    assert controller.message.startswith("does not fit at the mouse (it would hang over the edge"), \
+        controller.message
+    assert "shown as near as it fits" in controller.message
+    # Just past where it stopped does not fit: it is as near as it fits (within the bisection's step).
+    with pytest.raises(bridge.require_native().TargetTooSmallError):
+        session.update(anchor=(along + 2.0 ** -ops_paste.BISECTIONS) * corner)
+    assert np.linalg.norm(np.array(session.anchor_point) - reached) < 1e-9  # a refusal keeps the place
+    # The tool keeps its keys: it still turns there, and back in the middle the message goes.
+    assert controller.handle(event("R"), lambda: corner) == "UPDATED"
+    assert controller.handle(event("MOUSEMOVE", "NOTHING"), lambda: np.array([0.3, 0.0, 0.0])) == "UPDATED"
+    assert controller.message == ""
