@@ -9,7 +9,7 @@ import time
 import bpy
 import numpy as np
 
-from . import blender_numbers, bridge, messages, poll_reasons
+from . import blender_numbers, bridge, messages, poll_reasons, run_time
 from .jobs import NativeJob
 from .native import load_error, native
 
@@ -24,10 +24,7 @@ def remaining_words(elapsed, fraction):
     there is enough of both to say something; '' before."""
     if fraction < 0.05 or elapsed < 2.0:
         return ""
-    left = elapsed * (1.0 - fraction) / fraction
-    if left < 60:
-        return f"  about {max(5, int(round(left / 5)) * 5)} s left"
-    return f"  about {int(round(left / 60))} min left"
+    return f"  {run_time.duration_words(elapsed * (1.0 - fraction) / fraction)} left"
 
 
 def numbering_of(object_name, F):
@@ -51,6 +48,7 @@ class NativeOperator:
     _timer = None
     _state = None
     _started = 0.0
+    _faces = 0
 
     @classmethod
     def poll(cls, context):
@@ -101,11 +99,11 @@ class NativeOperator:
             return {"CANCELLED"}
         function, args, kwargs, self._state = prepared
         self._started = time.monotonic()
-        faces = sum(len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,)
-                    and a.dtype.kind == "i")
-        if faces >= LARGE_INPUT_FACES:
-            self.report({"INFO"}, f"{self.bl_label}: {faces:,} faces: this can take minutes; progress and the "
-                                  "time left show in the status bar, Esc cancels")
+        self._faces = faces = sum(len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,)
+                                  and a.dtype.kind == "i")
+        notice = run_time.notice(self.bl_label, faces, LARGE_INPUT_FACES)
+        if notice:
+            self.report({"INFO"}, notice)
         self._job = NativeJob(function, *args, **kwargs).start()
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
@@ -125,25 +123,44 @@ class NativeOperator:
                 if area.type == "VIEW_3D":
                     area.tag_redraw()  # the panel's progress line
             if context.workspace is not None:
-                left = remaining_words(time.monotonic() - self._started, job.fraction)
+                elapsed = time.monotonic() - self._started
+                left = remaining_words(elapsed, job.fraction)
+                if not left:  # too early to tell from the progress: the estimate from the face count
+                    expected = run_time.estimate(self.bl_label, self._faces)
+                    if expected is not None and expected - elapsed >= run_time.SAY_FROM_SECONDS:
+                        left = f"  {run_time.duration_words(expected - elapsed)} left (estimated)"
                 text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%{left}  (Esc to cancel)"
-                context.workspace.status_text_set(text)
+                _set_status(context, text)
             return {"RUNNING_MODAL"}
         self._end_modal(context)
+        if job.error is None:
+            run_time.learn(self.bl_label, self._faces, time.monotonic() - self._started)
         return self._finish(context, job, self._state)
 
     def _end_modal(self, context):
         wm = context.window_manager
         wm.event_timer_remove(self._timer)
         wm.progress_end()
-        if context.workspace is not None:
-            context.workspace.status_text_set(None)
+        _set_status(context, None)
 
     def cancel(self, context):  # Blender closes the window or aborts the operator
         if self._job is not None:
             self._job.cancel()
             self._job.wait()
             self._end_modal(context)
+
+
+# The status-bar line of the long operator running now (None when none is):
+# what the artist reads there; window tests read it here (Blender has no
+# getter for the status text).
+status_line = None
+
+
+def _set_status(context, text):
+    global status_line
+    status_line = text
+    if context.workspace is not None:
+        context.workspace.status_text_set(text)
 
 
 class UserError(Exception):

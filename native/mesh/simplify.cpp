@@ -1,6 +1,8 @@
 #include "mesh/simplify.h"
 
+#include <algorithm>
 #include <numeric>
+#include <boost/optional.hpp>
 #include <vector>
 
 #include <CGAL/Simple_cartesian.h>
@@ -24,6 +26,18 @@ namespace SMS = CGAL::Surface_mesh_simplification;
 /// ends into the vertex that stays.
 struct CollapseRecord : SMS::Edge_collapse_visitor_base<Surface> {
   std::vector<Index>* parent = nullptr;
+  Progress* progress = nullptr;
+  std::size_t collected = 0, edges = 1, stop_edges = 0;
+  // Collecting costs every edge (a tenth of the time), collapsing the rest.
+  void OnCollected(const SMS::Edge_profile<Surface>&, const boost::optional<double>&) {
+    if (progress && ++collected % 1024 == 0)
+      progress->report(0.1 * double(collected) / double(edges), "simplify");
+  }
+  void OnSelected(const SMS::Edge_profile<Surface>&, const boost::optional<double>&, std::size_t initial,
+                  std::size_t current) {
+    if (progress && current % 256 == 0 && initial > stop_edges)
+      progress->report(0.1 + 0.9 * double(initial - current) / double(initial - stop_edges), "simplify");
+  }
   void OnCollapsed(const SMS::Edge_profile<Surface>& profile, const VertexId& kept) {
     (*parent)[std::size_t(profile.v0())] = Index(kept);
     (*parent)[std::size_t(profile.v1())] = Index(kept);
@@ -38,7 +52,7 @@ Index root(std::vector<Index>& parent, Index v) {
 
 }  // namespace
 
-SimplifiedMesh simplify(const MatrixX3d& V, const MatrixX3i& F, Index target_faces) {
+SimplifiedMesh simplify(const MatrixX3d& V, const MatrixX3i& F, Index target_faces, Progress* progress) {
   PM_REQUIRE(target_faces > 0, InvalidInputError, "target_faces must be positive");
   SimplifiedMesh out;
   if (F.rows() <= target_faces) {
@@ -60,8 +74,11 @@ SimplifiedMesh simplify(const MatrixX3d& V, const MatrixX3i& F, Index target_fac
   std::iota(parent.begin(), parent.end(), Index(0));
   CollapseRecord record;
   record.parent = &parent;
+  record.progress = progress;
+  record.edges = std::max<std::size_t>(surface.number_of_edges(), 1);
   // Closed triangle meshes have 3/2 edges per face.
-  const SMS::Count_stop_predicate<Surface> stop{std::size_t(3 * target_faces / 2)};
+  record.stop_edges = std::size_t(3 * target_faces / 2);
+  const SMS::Count_stop_predicate<Surface> stop{record.stop_edges};
   SMS::edge_collapse(surface, stop, CGAL::parameters::visitor(record));
 
   // Surviving vertices in index order, then each input vertex's survivor.

@@ -5,6 +5,7 @@
 // 97k-face model scored on a few thousand faces).
 #pragma once
 
+#include "common/progress.h"
 #include "mesh/types.h"
 
 namespace paramorph {
@@ -18,6 +19,9 @@ struct SimplifiedMesh {
 /// V, F: a closed, manifold, consistently oriented triangle mesh (checked:
 /// InvalidInputError); target_faces: stop once this many faces are left (or
 /// no edge may collapse). A mesh already that small comes back as it is.
-SimplifiedMesh simplify(const MatrixX3d& V, const MatrixX3i& F, Index target_faces);
+/// progress: 0..1 while edges are collected and collapsed (a 97k-face mesh
+/// takes seconds); cancel throws Cancelled.
+SimplifiedMesh simplify(const MatrixX3d& V, const MatrixX3i& F, Index target_faces,
+                        Progress* progress = nullptr);
 
 }  // namespace paramorph

@@ -78,14 +78,21 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   Side side;
   side.model_V = &V;
   side.model_F = &F;
-  SimplifiedMesh proxy = simplify(V, F, o.proxy_faces);
+  // Simplifying a large model is most of this stage (97k faces: 2 s): it
+  // reports too, so Esc acts within the half second (issue 20).
+  SimplifiedMesh proxy = run_stage("simplify", 0.0, 0.5, progress, [&](Progress* p) {
+    return simplify(V, F, o.proxy_faces, p);
+  });
   side.V = std::move(proxy.V);
   side.F = std::move(proxy.F);
   side.area = vertex_areas(side.V, side.F);
   side.tree = std::make_shared<const ClosestPointTree>(side.V, side.F);
   side.curvature = smoothed_gaussian_curvature(TriMesh(side.V, side.F), 8);
-  side.map = spherical::balanced_sphere_map(side.V, side.F, {}, progress).positions;
+  side.map = run_stage("proxy map", 0.5, 0.8, progress, [&](Progress* p) {
+    return spherical::balanced_sphere_map(side.V, side.F, {}, p).positions;
+  });
   side.map = side.map * best_rotation(side.map, side.V.rowwise().normalized(), side.area);
+  if (progress) progress->report(0.8, "extremities");
   if (!o.extremities && !o.registration) return side;
   // Extremities come from the conformal map's area stretch (3.5.1).
   try {
@@ -103,6 +110,7 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   }
   // A tip of the model: from the model vertex nearest the proxy's tip, up
   // the model's own distance from the body to its peak.
+  if (progress) progress->report(0.9, "model tips");
   const ClosestPoints on = side.tree->query(V);
   const TriMesh mesh(V, F);
   std::vector<Index> body;
@@ -284,10 +292,16 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
       for (int s = 0; s < 4; ++s)
         starts.push_back({turns[s], axes_a * Eigen::Vector3d(signs[s][0], signs[s][1], signs[s][2]).asDiagonal() * axes_b.transpose()});
       for (const Start& start : starts) {
-        const Registration registration = register_surfaces(
-            A.V, A.F, B.V, B.F,
-            {PolynomialWarp::similarity(Eigen::RowVector3d::Zero(), 1.0, start.rotation, Eigen::RowVector3d::Zero(), 1.0)},
-            o.registration_options);
+        // Each registration reports: the five of them were 1.5-5 s without a
+        // report on 97k faces (Esc waited that long, issue 20).
+        const double first = 0.82 + 0.04 * double(&start - starts.data()) / double(starts.size());
+        const Registration registration = run_stage(
+            "correspondence candidates", first, first + 0.04 / double(starts.size()), progress, [&](Progress* p) {
+              return register_surfaces(A.V, A.F, B.V, B.F,
+                                       {PolynomialWarp::similarity(Eigen::RowVector3d::Zero(), 1.0, start.rotation,
+                                                                   Eigen::RowVector3d::Zero(), 1.0)},
+                                       o.registration_options, p);
+            });
         const MatrixX3d moved = registration.warp(B.V);
         // The registration as a smooth map: farthest-point samples of B's
         // proxy paired with A's vertex at their registered closest points,

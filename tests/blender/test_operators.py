@@ -333,3 +333,22 @@ def test_tooltips_speak_artist_words_first():
             plain = re.sub(r"\([^)]*\)", "", text or "").lower()
             for word in JARGON:
                 assert word not in plain, f"{idname}: {text!r}"
+
+
+def test_long_runs_are_estimated_from_the_face_count_before_they_start(monkeypatch):
+    from paramorph import run_time
+    monkeypatch.setattr(run_time, "_rates", dict(run_time._rates))  # what it learns stays in this test
+    # A 97k-face morph (source and target together ~190k faces) is announced
+    # in minutes; a small sphere map is not announced at all.
+    morph = run_time.estimate("Morph To", 190_000)
+    assert morph > 40 and "(estimated from the face count)" in run_time.notice("Morph To", 190_000, 50_000)
+    assert run_time.notice("Sphere Map", 20_000, 50_000) == ""
+    # Over the large-input threshold it is said even when quick, with the count.
+    assert run_time.notice("Sphere Map", 60_000, 50_000).startswith("Sphere Map: 60,000 faces: about")
+    # A finished run teaches the rate: a machine twice as slow doubles the next estimate.
+    before = run_time.estimate("Copy Feature", 80_000)
+    run_time.learn("Copy Feature", 40_000, 2 * run_time.estimate("Copy Feature", 40_000))
+    assert run_time.estimate("Copy Feature", 80_000) == pytest.approx(2 * before)
+    run_time.learn("Copy Feature", 100, 50.0)  # tiny runs measure overheads: ignored
+    assert run_time.estimate("Copy Feature", 80_000) == pytest.approx(2 * before)
+    assert run_time.duration_words(5400) == "about 1.5 h" and run_time.duration_words(12) == "about 10 s"
