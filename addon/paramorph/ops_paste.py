@@ -95,9 +95,13 @@ def _why_not(error):
     text = str(error)
     if "boundary" in text or "does not extend" in text:
         return "it would hang over the edge of the surface"
-    if "folds over" in text or "curved" in text:
+    if "degenerate" in text:
+        return "the surface under it has zero-area faces"
+    if "not a single disc" in text:
+        return "the surface under it wraps around a thin part or has a hole"
+    if "folds over" in text or "curved" in text or "flattened" in text:
         return "the surface is too curved under it"
-    return text.split(" (")[0]
+    return text.split(" (")[0].split(";")[0].split(". ")[0]
 
 
 def build_fitting_session(V, F, feature, *, anchor, scale, progress, **options):
@@ -114,7 +118,7 @@ def build_fitting_session(V, F, feature, *, anchor, scale, progress, **options):
         except native.TargetTooSmallError as error:
             first = first or error
             continue
-        note = "" if factor == 1.0 else (f"{_why_not(first)} at full size: shown at scale "
+        note = "" if factor == 1.0 else (f"does not fit at full size ({_why_not(first)}): shown at scale "
                                          f"{scale * factor:.2f}")
         return session, scale * factor, note
     # Other places, nearest first: vertices at growing distances from the anchor.
@@ -126,7 +130,7 @@ def build_fitting_session(V, F, feature, *, anchor, scale, progress, **options):
             session = native.PasteSession(V, F, feature, anchor=place, scale=scale, progress=progress, **options)
         except native.TargetTooSmallError:
             continue
-        return session, scale, f"{_why_not(first)} at the mouse: shown at the nearest place it fits"
+        return session, scale, f"does not fit at the mouse ({_why_not(first)}): shown at the nearest place it fits"
     raise first
 
 
@@ -234,10 +238,16 @@ class PasteController:
         return "UPDATED" if done else "REFUSED"
 
     def header(self):
-        text = (f"Paste Feature: rotation {math.degrees(self.rotation):.0f}°, scale {self.scale:.2f}   "
-                "move: slide  Wheel/R/Shift+R: rotate  Ctrl+Wheel/S/Shift+S: scale  "
-                "Enter/LMB: confirm  Esc/RMB: cancel")
-        return f"{text}   ({self.message})" if self.message else text
+        """The header line: the placement and, first, what went wrong (the
+        keys are in the status bar, KEYS: after them the message ran off
+        the header, issue 20)."""
+        placement = f"rotation {math.degrees(self.rotation):.0f}°, scale {self.scale:.2f}"
+        return f"Paste Feature: {self.message}   ({placement})" if self.message else f"Paste Feature: {placement}"
+
+
+# The status bar while the paste follows the mouse, as Blender's own modal tools show their keys.
+KEYS = ("Move: slide    Wheel, R, Shift+R: turn    Ctrl+Wheel, S, Shift+S: scale    "
+        "Enter, Left Click: paste    Esc, Right Click: cancel")
 
 
 class PARAMORPH_OT_paste_feature(bpy.types.Operator):
@@ -401,8 +411,7 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         self._controller = PasteController(session, V, F, tri_poly, self.rotation, scale)
         self._controller.message = note
         paste_preview.start()
-        self._refresh(context)
-        _set_phase("placing")
+        self._refresh(context)  # and the phase: placing
         return {"RUNNING_MODAL"}
 
     def _refresh(self, context):
@@ -410,7 +419,10 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         V2, F2, new_faces = controller.session.result()
         num_untouched = len(controller.F) - len(controller.session.replaced_faces)
         paste_preview.build(self._state["object"].matrix_world, controller.V, V2, F2, new_faces, num_untouched)
+        _set_phase("placing", controller.header())
         context.area.header_text_set(controller.header())
+        if context.workspace is not None:
+            context.workspace.status_text_set(KEYS)
         context.area.tag_redraw()
 
     def modal(self, context, event):
@@ -440,6 +452,8 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
         if timer is not None:
             context.window_manager.event_timer_remove(timer)
         paste_preview.stop()
+        if context.workspace is not None:
+            context.workspace.status_text_set(None)
         if context.area is not None:
             context.area.header_text_set(None)
             context.area.tag_redraw()
@@ -453,13 +467,15 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
 
 
 # What the interactive tool is doing: None, "building" (the session, in a
-# thread) or "placing" (following the mouse). Scripts and the GUI test read it.
+# thread) or "placing" (following the mouse), and the header it shows then.
+# Scripts and the GUI test read them (Blender has no getter for the header).
 phase = None
+header_line = None
 
 
-def _set_phase(value):
-    global phase
-    phase = value
+def _set_phase(value, header=None):
+    global phase, header_line
+    phase, header_line = value, header
 
 
 _NAVIGATION = {"MIDDLEMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "NDOF_MOTION", "NUMPAD_1", "NUMPAD_2",

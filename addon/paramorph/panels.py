@@ -27,7 +27,7 @@ class PARAMORPH_PT_main(bpy.types.Panel):
             row.operator("paramorph.cancel_jobs", text="", icon="CANCEL")
         obj = context.active_object
         if obj is None or obj.type != "MESH":  # what to do first
-            layout.label(text="Select a mesh object to start", icon="INFO")
+            layout.label(text="Select a mesh to start", icon="INFO")  # fits the default sidebar
         col = layout.column(align=True)
         col.label(text="Parameterize")
         col.operator("paramorph.sphere_map")
@@ -97,8 +97,11 @@ class PARAMORPH_PT_main(bpy.types.Panel):
         row.operator("paramorph.copy_feature")
         col.operator("paramorph.paste_feature")
         last = feature_store.latest()
-        col.label(text=f"Paste: {feature_store.describe(last)}" if last is not None else "No feature copied yet",
-                  icon="PASTEDOWN" if last is not None else "INFO")
+        if last is None:
+            col.label(text="No feature copied yet", icon="INFO")
+        else:  # two short lines: one ran off the default sidebar width
+            col.label(text=last.name, icon="PASTEDOWN")
+            col.label(text=f"{last.get(feature_store.FACES, 0)} faces", icon="BLANK1")
 
 
 def _wrapped(layout, text, width, icon="BLANK1"):

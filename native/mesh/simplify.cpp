@@ -27,7 +27,7 @@ namespace SMS = CGAL::Surface_mesh_simplification;
 struct CollapseRecord : SMS::Edge_collapse_visitor_base<Surface> {
   std::vector<Index>* parent = nullptr;
   Progress* progress = nullptr;
-  std::size_t collected = 0, edges = 1, stop_edges = 0;
+  std::size_t collected = 0, selected = 0, edges = 1, stop_edges = 0;
   // Collecting costs every edge (a tenth of the time), collapsing the rest.
   void OnCollected(const SMS::Edge_profile<Surface>&, const boost::optional<double>&) {
     if (progress && ++collected % 1024 == 0)
@@ -35,7 +35,7 @@ struct CollapseRecord : SMS::Edge_collapse_visitor_base<Surface> {
   }
   void OnSelected(const SMS::Edge_profile<Surface>&, const boost::optional<double>&, std::size_t initial,
                   std::size_t current) {
-    if (progress && current % 256 == 0 && initial > stop_edges)
+    if (progress && ++selected % 128 == 0 && initial > stop_edges)
       progress->report(0.1 + 0.9 * double(initial - current) / double(initial - stop_edges), "simplify");
   }
   void OnCollapsed(const SMS::Edge_profile<Surface>& profile, const VertexId& kept) {

@@ -86,19 +86,23 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   side.V = std::move(proxy.V);
   side.F = std::move(proxy.F);
   side.area = vertex_areas(side.V, side.F);
+  if (progress) progress->report(0.5, "proxy");
   side.tree = std::make_shared<const ClosestPointTree>(side.V, side.F);
   side.curvature = smoothed_gaussian_curvature(TriMesh(side.V, side.F), 8);
-  side.map = run_stage("proxy map", 0.5, 0.8, progress, [&](Progress* p) {
+  side.map = run_stage("proxy map", 0.5, 0.7, progress, [&](Progress* p) {
     return spherical::balanced_sphere_map(side.V, side.F, {}, p).positions;
   });
   side.map = side.map * best_rotation(side.map, side.V.rowwise().normalized(), side.area);
-  if (progress) progress->report(0.8, "extremities");
   if (!o.extremities && !o.registration) return side;
   // Extremities come from the conformal map's area stretch (3.5.1).
   try {
     features::ExtremityOptions extremity = o.extremity;
-    extremity.sphere = spherical::sphere_map(side.V, side.F).positions;
-    side.extremities = features::segment_extremities(side.V, side.F, extremity);
+    extremity.sphere = run_stage("extremities", 0.7, 0.8, progress, [&](Progress* p) {
+      return spherical::sphere_map(side.V, side.F, {}, p).positions;
+    });
+    side.extremities = run_stage("extremities", 0.8, 0.88, progress, [&](Progress* p) {
+      return features::segment_extremities(side.V, side.F, extremity, p);
+    });
     side.tips = features::extremity_tips(side.V, side.F, *side.extremities, o.tip_prominence);
   } catch (const ComputeError& e) {
     side.tips_note = std::string("no conformal map of the proxy: ") + e.what();
@@ -112,10 +116,12 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   // the model's own distance from the body to its peak.
   if (progress) progress->report(0.9, "model tips");
   const ClosestPoints on = side.tree->query(V);
+  if (progress) progress->report(0.94, "model tips");
   const TriMesh mesh(V, F);
   std::vector<Index> body;
   for (Index v = 0; v < V.rows(); ++v)
     if (side.extremities->face_labels[on.face[v]] == side.tips.body) body.push_back(v);
+  if (progress) progress->report(0.96, "model tips");
   VectorXd dist = body.empty() ? VectorXd::Zero(V.rows()) : edge_path_distances(mesh, body);
   for (Index v = 0; v < dist.size(); ++v)
     if (!std::isfinite(dist[v])) dist[v] = 0;

@@ -470,3 +470,26 @@ def test_dragging_past_the_edge_follows_the_mouse_as_far_as_the_feature_fits():
     assert controller.handle(event("R"), lambda: corner) == "UPDATED"
     assert controller.handle(event("MOUSEMOVE", "NOTHING"), lambda: np.array([0.3, 0.0, 0.0])) == "UPDATED"
     assert controller.message == ""
+
+
+def test_every_refusal_the_native_side_gives_is_said_in_a_few_plain_words():
+    # The native messages (native/paste/*.cpp) are long and technical; the
+    # header shows a short reason (issue 20: it ran off the header).
+    native_messages = [
+        "the surface under the feature is not a single disc: within the blend radius it has a hole, a handle, "
+        "or it wraps around a part thinner than the feature. Move the feature, make it smaller, lower its blend "
+        "radius, or close the hole first",
+        "the surface under the feature could not be flattened (degenerate faces there); move the feature",
+        "the surface under the feature could not be flattened without folds; move the feature or make it smaller",
+        "the target's surface folds over under the feature: it is too curved there for the feature at this "
+        "size; paste it smaller or elsewhere",
+        "the feature reaches the target's boundary (an open edge of the mesh) here; move it inwards or make it "
+        "smaller",
+        "the target does not extend under the feature's boundary here; move it or make it smaller",
+        "the surface under the feature is not a single disc (it wraps around or folds back within the "
+        "feature); move the feature or make it smaller",
+        "something new; with advice. And more",
+    ]
+    for text in native_messages:
+        words = ops_paste._why_not(ValueError(text))
+        assert len(words) <= 60 and not re.search(r"\d", words), (text, words)

@@ -5,6 +5,7 @@ step runner that drives a script from a timer (a window needs its event loop
 between steps) and writes the stats as JSON for the pytest side to assert on."""
 import json
 import os
+import shutil
 import sys
 import traceback
 
@@ -40,6 +41,16 @@ def screenshot_rgb(name):
     px = np.empty(w * h * 4, dtype=np.float32)
     image.pixels.foreach_get(px)
     return px.reshape(-1, 4)[:, :3]
+
+
+def keep_for_readme(name):
+    """Copies OUT/<name>.png to $PARAMORPH_SCREENSHOTS/<name>.png when that is
+    set (scripts/screenshots.sh sets it to docs/screenshots, which the README
+    shows): the README's pictures are the tests' own."""
+    folder = os.environ.get("PARAMORPH_SCREENSHOTS")
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+        shutil.copyfile(os.path.join(OUT, f"{name}.png"), os.path.join(folder, f"{name}.png"))
 
 
 def run_steps(steps, report):

@@ -1,0 +1,315 @@
+"""Runs inside a real Blender window (xvfb-run blender --enable-event-simulate,
+not -b), driven by tests/gui/test_artist_gui.py:
+
+    xvfb-run -a blender --enable-event-simulate --python tests/gui/artist_gui.py -- OUT_DIR
+
+The add-on as an artist meets it (issue 20), with simulated input:
+- the sidebar's Paramorph tab found as a user finds it (clicking down the
+  sidebar's tabs), with nothing selected: the panel says what to do
+  first and a greyed button says why (its poll message); screenshot "panel";
+- Morph To on two large meshes, modal: the estimate said before the run and
+  in the status bar while it runs, then Esc pressed: how long until the
+  operator has ended, and nothing written;
+- Morph To between a source and a target scaled x3 and turned 45 degrees, in
+  the window: the morph ends at the target's size;
+- Paste Feature asked for a size that does not fit: the tool starts at a
+  size that fits, keeps running through refused S presses (the object is not
+  scaled by Blender's own S), says why in the header; screenshot "paste";
+  Esc leaves the mesh as it was.
+Writes OUT_DIR/artist.json (the test asserts on it), then quits."""
+import math
+import os
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d  # noqa: E402
+
+import addon_utils  # noqa: E402
+import make_samples  # noqa: E402
+
+drawn = {"main": 0}
+
+
+def clear_scene():
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+
+
+def in_view(function, *args, **kwargs):
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        return function(*args, **kwargs)
+
+
+def simulate(kind, value="PRESS", xy=None, **keys):
+    window, area, region = view3d()
+    x, y = xy if xy is not None else (region.x + region.width // 2, region.y + region.height // 2)
+    window.event_simulate(type=kind, value=value, x=x, y=y, **keys)
+
+
+# --- the panel -----------------------------------------------------------------------
+
+def setup():
+    clear_scene()
+    addon_utils.enable("paramorph", default_set=True)
+    from paramorph import panels
+    draw = panels.PARAMORPH_PT_main.draw
+
+    def counted(self, context):  # Blender looks draw up at each redraw: this counts them
+        drawn["main"] += 1
+        draw(self, context)
+    panels.PARAMORPH_PT_main.draw = counted
+    window, area, region = view3d()
+    space = area.spaces.active
+    space.show_region_ui = True
+    space.shading.type = "SOLID"
+    space.overlay.show_floor = False
+    area.tag_redraw()
+    stats["tab_tries"] = 0
+
+
+def find_tab():
+    """Clicks down the sidebar's tab strip (its right edge), as a user picks a
+    tab, until the Paramorph panel draws (re-inserts itself, at most 40 clicks)."""
+    if drawn["main"]:
+        stats["tab_found"] = True
+        return
+    window, area, _ = view3d()
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    tries = stats["tab_tries"] = stats["tab_tries"] + 1
+    y = sidebar.y + sidebar.height - 10 - 12 * tries
+    if y < sidebar.y:
+        stats["tab_found"] = False
+        return
+    xy = (sidebar.x + sidebar.width - 9, y)
+    simulate("MOUSEMOVE", "NOTHING", xy=xy)
+    simulate("LEFTMOUSE", "PRESS", xy=xy)
+    simulate("LEFTMOUSE", "RELEASE", xy=xy)
+    area.tag_redraw()
+    steps.insert(0, find_tab)
+    steps.insert(0, None)
+
+
+def panel_picture():
+    screenshot_rgb("panel")
+    keep_for_readme("panel")
+    stats["panel_draws"] = drawn["main"]
+    # A greyed button says why: its poll message, in the window's own context.
+    try:
+        in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT")
+        stats["greyed_reason"] = ""
+    except RuntimeError as error:
+        stats["greyed_reason"] = str(error)
+
+
+# --- a long Morph To, its estimate and Esc ---------------------------------------------
+
+def big_pair():
+    clear_scene()
+    source = make_samples.build_octopus(name="BigSource", subdivisions=7)
+    target = make_samples.build_octopus(name="BigTarget", subdivisions=6, limbs=4)
+    source.location, target.location = (-2.0, 0.0, 0.0), (2.0, 0.0, 0.0)
+    for obj in (source, target):
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = target
+    stats["esc"] = {"faces": len(source.data.polygons) + len(target.data.polygons),
+                    "objects_before": sorted(o.name for o in bpy.data.objects)}
+
+
+def morph_invoke():
+    from paramorph import native_operator
+    stats["esc"]["invoke"] = sorted(in_view(bpy.ops.paramorph.morph_to, "INVOKE_DEFAULT", topology="MERGED"))
+    stats["esc"]["started"] = time.monotonic()
+    stats["esc"]["lines"] = []
+
+    def watch():  # the status bar while it runs, every 0.2 s until Esc
+        line = native_operator.status_line
+        if line is not None:
+            stats["esc"]["lines"].append(line)
+        return None if "pressed" in stats["esc"] else 0.2
+    bpy.app.timers.register(watch, first_interval=0.2)
+
+
+def wait_running(seconds):
+    def wait():
+        if time.monotonic() - stats["esc"]["started"] < seconds:
+            steps.insert(0, wait)
+    return wait
+
+
+def press_escape():
+    from paramorph import jobs, native_operator
+    stats["esc"]["running_before"] = len(jobs.running())
+    stats["esc"]["line_before"] = native_operator.status_line
+    pressed = stats["esc"]["pressed"] = time.monotonic()
+    simulate("ESC")
+    simulate("ESC", "RELEASE")
+
+    def ended():  # polled every 10 ms: the operator has ended when its status line is gone
+        if not jobs.running() and "thread_latency_s" not in stats["esc"]:
+            stats["esc"]["thread_latency_s"] = round(time.monotonic() - pressed, 3)  # the native call's part
+        if native_operator.status_line is None:
+            stats["esc"]["latency_s"] = round(time.monotonic() - pressed, 3)
+            return None
+        if time.monotonic() - pressed > 30:
+            stats["esc"]["latency_s"] = None
+            return None
+        return 0.01
+    bpy.app.timers.register(ended, first_interval=0.01)
+
+
+def wait_ended():
+    if "latency_s" not in stats["esc"]:
+        steps.insert(0, wait_ended)
+
+
+def after_escape():
+    from paramorph import jobs
+    stats["esc"]["running_after"] = len(jobs.running())
+    stats["esc"]["objects_after"] = sorted(o.name for o in bpy.data.objects)
+    stats["esc"].pop("started"), stats["esc"].pop("pressed")
+
+
+# --- Morph To with transforms, in the window ----------------------------------------------
+
+def placed_pair():
+    clear_scene()
+    source = make_samples.build_octopus(name="Small", subdivisions=3, limbs=4)
+    target = make_samples.build_octopus(name="Turned", subdivisions=4, limbs=4)
+    source.location, target.location = (-3.0, 0.0, 0.0), (4.0, 0.0, 0.0)
+    target.scale = (3.0, 3.0, 3.0)
+    target.rotation_euler = (0.0, 0.0, math.radians(45.0))
+    for obj in (source, target):
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = target
+    bpy.context.view_layer.update()
+    stats["placed"] = {"invoke": sorted(in_view(bpy.ops.paramorph.morph_to, "INVOKE_DEFAULT", topology="KEEP"))}
+
+
+def keys_written():
+    source = bpy.data.objects["Small"]
+    if source.data.shape_keys is None and stats["placed"].setdefault("waits", 0) < 240:
+        stats["placed"]["waits"] += 1
+        steps.insert(0, keys_written)
+
+
+def placed_check():
+    source, target = bpy.data.objects["Small"], bpy.data.objects["Turned"]
+    keys = source.data.shape_keys
+    last = keys.key_blocks[-1]
+    co = np.empty(3 * len(last.data))
+    last.data.foreach_get("co", co)
+    world = co.reshape(-1, 3) @ np.array(source.matrix_world)[:3, :3].T
+    target_world = np.array([target.matrix_world @ v.co for v in target.data.vertices])
+    extent = lambda P: np.linalg.norm(P.max(axis=0) - P.min(axis=0))
+    stats["placed"]["size_ratio"] = float(extent(world) / extent(target_world))
+    # Turned like the target: centred, each point of the last key lies on the
+    # target (its four tentacles 45 degrees off would not).
+    from mathutils.kdtree import KDTree
+    tree = KDTree(len(target_world))
+    for i, p in enumerate(target_world - target_world.mean(axis=0)):
+        tree.insert(p, i)
+    tree.balance()
+    gaps = [tree.find(p)[2] for p in world - world.mean(axis=0)]
+    stats["placed"]["mean_gap_share"] = float(np.mean(gaps) / extent(target_world))
+    stats["placed"]["keys"] = len(keys.key_blocks)
+
+
+# --- Paste Feature that does not fit at first --------------------------------------------
+
+def paste_setup():
+    clear_scene()
+    source, target = make_samples.build_paste_pair()
+    from paramorph import regions
+    centres = np.empty(3 * len(source.data.polygons), dtype=np.float32)
+    source.data.polygons.foreach_get("center", centres)
+    ball = np.array(make_samples.BOSS_BALL)
+    regions.select_polygons(source.data, np.linalg.norm(centres.reshape(-1, 3) - ball[:3], axis=1) <= ball[3])
+    bpy.context.view_layer.objects.active = source
+    in_view(bpy.ops.object.mode_set, mode="EDIT")
+    bpy.context.tool_settings.mesh_select_mode = (False, False, True)
+    stats["paste"] = {"copy": sorted(in_view(bpy.ops.paramorph.copy_feature, "EXEC_DEFAULT"))}
+    in_view(bpy.ops.object.mode_set, mode="OBJECT")
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(obj == target)
+    bpy.context.view_layer.objects.active = target
+    in_view(bpy.ops.view3d.view_selected)
+    target.select_set(False)
+    stats["paste"]["polygons_before"] = len(target.data.polygons)
+
+
+def paste_invoke():
+    simulate("MOUSEMOVE", "NOTHING")  # the mouse over the target's middle
+    # Six times the feature's size: far too large for this body.
+    stats["paste"]["invoke"] = sorted(in_view(bpy.ops.paramorph.paste_feature, "INVOKE_DEFAULT", scale=6.0))
+    stats["paste"]["waits"] = 0
+
+
+def wait_placing():
+    from paramorph import ops_paste
+    stats["paste"]["waits"] += 1
+    if ops_paste.phase != "placing" and stats["paste"]["waits"] < 120:
+        steps.insert(0, wait_placing)
+
+
+def paste_first_header():
+    from paramorph import ops_paste
+    stats["paste"]["first_header"] = ops_paste.header_line
+
+
+def paste_grow():
+    """S six times (x1.1 each): past the size that fits, refused, and the tool stays."""
+    for _ in range(6):
+        simulate("S")
+        simulate("S", "RELEASE")
+
+
+def paste_after_grow():
+    from paramorph import ops_paste
+    target = bpy.data.objects["CurvedTarget"]
+    stats["paste"]["after_grow"] = {"phase": ops_paste.phase, "header": ops_paste.header_line,
+                                    "object_scale": list(target.scale)}
+    x, y = view3d()[2].x + view3d()[2].width // 2, view3d()[2].y + view3d()[2].height // 2
+    simulate("MOUSEMOVE", "NOTHING", xy=(x + 25, y + 20))
+
+
+def paste_to_a_sensible_size():
+    """Shift+S back down to about the feature's own size, the mouse a little
+    aside: the picture the README shows."""
+    for _ in range(15):
+        simulate("S", shift=True)
+        simulate("S", "RELEASE", shift=True)
+    x, y = view3d()[2].x + view3d()[2].width // 2, view3d()[2].y + view3d()[2].height // 2
+    simulate("MOUSEMOVE", "NOTHING", xy=(x - 30, y + 40))
+
+
+def paste_picture():
+    from paramorph import ops_paste
+    stats["paste"]["pictured_header"] = ops_paste.header_line
+    screenshot_rgb("paste")
+    keep_for_readme("paste")
+
+
+def paste_cancel():
+    simulate("ESC")
+    simulate("ESC", "RELEASE")
+
+
+def paste_after_cancel():
+    from paramorph import ops_paste
+    stats["paste"]["after_cancel"] = {"phase": ops_paste.phase,
+                                      "polygons": len(bpy.data.objects["CurvedTarget"].data.polygons)}
+
+
+steps = [setup, None, find_tab, None, panel_picture,
+         big_pair, None, morph_invoke, wait_running(4.0), press_escape, wait_ended, None, after_escape,
+         placed_pair, keys_written, None, placed_check,
+         paste_setup, None, paste_invoke, wait_placing, None, paste_first_header, paste_grow, None,
+         paste_after_grow, None, paste_to_a_sensible_size, None, paste_picture, paste_cancel, None, paste_after_cancel]
+
+
+run_steps(steps, "artist.json")
