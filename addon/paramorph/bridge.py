@@ -44,6 +44,20 @@ def as_placed(V, obj):
     return V @ np.array(obj.matrix_world, dtype=np.float64)[:3, :3].T
 
 
+def evaluated_arrays(context, obj):
+    """V, F (loop triangles) of the object as the viewport shows it: its
+    visible modifiers applied (a Subdivision Surface's smooth shape). For
+    operators that only read a mesh; those writing per vertex use the base
+    mesh and say so (modifier_note)."""
+    evaluated = obj.evaluated_get(context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        V, F, _, _ = mesh_arrays(mesh)
+    finally:
+        evaluated.to_mesh_clear()
+    return V, F
+
+
 def modifier_note(obj):
     """'' or a sentence saying the computation used the mesh without its
     (visible) modifiers, naming them."""

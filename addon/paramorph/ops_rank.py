@@ -57,6 +57,10 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
     bl_options = {"REGISTER"}  # writes only the list shown in the panel
 
     repair: repair_mesh.REPAIR_PROPERTY
+    apply_modifiers: bpy.props.BoolProperty(
+        name="Apply Modifiers", default=True,
+        description="Compare the shapes as the viewport shows them, modifiers included (e.g. a "
+                    "Subdivision Surface's smooth shape); off: their meshes without modifiers")
 
     def prepare(self, context):
         active = context.active_object
@@ -66,10 +70,12 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
         items = []
         for obj in [active] + others:  # a handful of objects, not mesh elements
             with bridge.object_mode(context, obj):
-                V, F, _, _ = bridge.mesh_arrays(obj.data)
+                V, F = (bridge.evaluated_arrays(context, obj) if self.apply_modifiers
+                        else bridge.mesh_arrays(obj.data)[:2])
             V = bridge.as_placed(V, obj)
             items.append((obj.name, sphere_cache.key(V, F), V, F))
-        state = {"active": active.name, "arrays": (items[0][2], items[0][3])}
+        state = {"active": active.name, "arrays": (items[0][2], items[0][3]),
+                 "objects": [] if self.apply_modifiers else [obj.name for obj in [active] + others]}
         return _signatures, (items,), {"backend": backend(context), "repair": self.repair}, state
 
     def finish(self, context, result, state):

@@ -198,6 +198,25 @@ def test_rank_similar_shapes_lists_the_same_shape_first():
         bpy.ops.paramorph.rank_similar_shapes()
 
 
+def test_rank_similar_shapes_compares_what_the_viewport_shows(capfd):
+    # An octopus with a Cast modifier shows as a ball: with modifiers applied it
+    # is compared as the ball it shows (close to the blob), without them as
+    # the octopus it is underneath (issue 20: modifiers were silently ignored).
+    reference = make_samples.build_blob(name="Reference", subdivisions=4)
+    cast = make_samples.build_octopus(name="Cast", subdivisions=4, limbs=6)
+    modifier = cast.modifiers.new("Cast", "CAST")
+    modifier.cast_type, modifier.factor = "SPHERE", 1.0
+    make_samples.build_octopus(name="Tripod", subdivisions=4, limbs=3)
+    bpy.context.view_layer.objects.active = reference
+    distance = {}
+    for apply in (True, False):
+        assert bpy.ops.paramorph.rank_similar_shapes(apply_modifiers=apply) == {"FINISHED"}
+        distance[apply] = {i.object_name: i.distance for i in bpy.context.scene.paramorph_similar}
+    assert 0 <= distance[True]["Cast"] < 0.5 * distance[False]["Cast"], distance
+    # Off, it says which objects were compared without their modifiers.
+    assert "Cast: computed on the mesh without its modifiers (Cast)" in capfd.readouterr().out
+
+
 def test_segmentation_reuses_the_sphere_map_of_the_same_geometry(monkeypatch):
     from paramorph import sphere_cache
     sphere_cache.clear()
