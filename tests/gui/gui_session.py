@@ -43,14 +43,14 @@ def screenshot_rgb(name):
     return px.reshape(-1, 4)[:, :3]
 
 
-def keep_for_readme(name):
-    """Copies OUT/<name>.png to $PARAMORPH_SCREENSHOTS/<name>.png when that is
-    set (scripts/screenshots.sh sets it to docs/screenshots, which the README
-    shows): the README's pictures are the tests' own."""
+def keep_for_readme(name, as_name=None):
+    """Copies OUT/<name>.png to $PARAMORPH_SCREENSHOTS/<as_name or name>.png
+    when that is set (scripts/screenshots.sh sets it to docs/screenshots,
+    which the README shows): the README's pictures are the tests' own."""
     folder = os.environ.get("PARAMORPH_SCREENSHOTS")
     if folder:
         os.makedirs(folder, exist_ok=True)
-        shutil.copyfile(os.path.join(OUT, f"{name}.png"), os.path.join(folder, f"{name}.png"))
+        shutil.copyfile(os.path.join(OUT, f"{name}.png"), os.path.join(folder, f"{as_name or name}.png"))
 
 
 def run_steps(steps, report):

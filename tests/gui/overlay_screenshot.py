@@ -23,7 +23,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import run_steps, screenshot_rgb, stats, view3d  # noqa: E402
+from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -226,7 +226,8 @@ def keep_check_and_undo():
     stats["keep"]["objects_undone"] = sorted(o.name for o in bpy.data.objects)
 
 
-steps = [setup, None, picture("off"), overlay_on, None, picture("on"), turn_inside_out, None,
+steps = [setup, None, picture("off"), overlay_on, None, picture("on"), lambda: keep_for_readme("on", "overlay"),
+         turn_inside_out, None,
          picture("inside_out"), undo,
          modal_setup, modal_invoke("first"), modal_cancel, wait_for_jobs(), None, modal_check("cancelled"),
          modal_invoke("second"), wait_for_jobs(sphere_written), None, modal_check("finished"),
