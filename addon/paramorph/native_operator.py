@@ -14,6 +14,10 @@ from .jobs import NativeJob
 from .native import load_error, native
 
 
+# How long Esc waits for the native call to stop before going back to the
+# event loop (it then ends on a later timer event).
+CANCEL_WAIT_SECONDS = 1.0
+
 # Above this many input faces an operator says before it starts that it may
 # take minutes (a 97k-face horse morphed for 16 minutes with no warning).
 LARGE_INPUT_FACES = 50_000
@@ -49,6 +53,7 @@ class NativeOperator:
     _state = None
     _started = 0.0
     _faces = 0
+    _notice = ""
 
     @classmethod
     def poll(cls, context):
@@ -101,9 +106,12 @@ class NativeOperator:
         self._started = time.monotonic()
         self._faces = faces = sum(len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,)
                                   and a.dtype.kind == "i")
-        notice = run_time.notice(self.bl_label, faces, LARGE_INPUT_FACES)
-        if notice:
-            self.report({"INFO"}, notice)
+        # Said in the status bar at once (a modal operator's reports show only
+        # when it ends; a cancelled one's INFO reports never do).
+        self._notice = run_time.notice(self.bl_label, faces, LARGE_INPUT_FACES)
+        if self._notice:
+            self.report({"INFO"}, self._notice)
+            _set_status(context, f"{self._notice}  (Esc to cancel)")
         self._job = NativeJob(function, *args, **kwargs).start()
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
@@ -115,6 +123,11 @@ class NativeOperator:
         job = self._job
         if event.type == "ESC" and event.value == "PRESS":
             job.cancel()
+            # Wait for the native call to stop (it checks at its next progress
+            # report, within a few tenths of a second; join lets it take the
+            # GIL) rather than for the next timer event: Esc ends the operator
+            # at once (issue 20: within 0.5 s).
+            job.wait(CANCEL_WAIT_SECONDS)
         if event.type != "TIMER" and not job.cancelled:
             return {"PASS_THROUGH"}
         if not job.done():
@@ -125,10 +138,10 @@ class NativeOperator:
             if context.workspace is not None:
                 elapsed = time.monotonic() - self._started
                 left = remaining_words(elapsed, job.fraction)
-                if not left:  # too early to tell from the progress: the estimate from the face count
-                    expected = run_time.estimate(self.bl_label, self._faces)
-                    if expected is not None and expected - elapsed >= run_time.SAY_FROM_SECONDS:
-                        left = f"  {run_time.duration_words(expected - elapsed)} left (estimated)"
+                expected = run_time.estimate(self.bl_label, self._faces)
+                if not left and self._notice and expected is not None:  # too early to tell from the progress
+                    left = (f"  {run_time.duration_words(expected - elapsed)} left (estimated from "
+                            f"{self._faces:,} faces)" if expected > elapsed else "  longer than estimated")
                 text = f"{self.bl_label}: {job.stage} {100 * job.fraction:.0f}%{left}  (Esc to cancel)"
                 _set_status(context, text)
             return {"RUNNING_MODAL"}

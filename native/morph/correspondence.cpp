@@ -187,12 +187,13 @@ struct Raw {
 /// them by the checked flow (flow_sphere_map), fold-free; where the proxy is
 /// too coarse for the flow (pins a proxy edge apart that the model can still
 /// hold) the same flow unchecked, whose folds the score then counts.
-MatrixX3d candidate_map(const Side& B, const PairPoints& points, const Eigen::Matrix3d& fallback) {
+MatrixX3d candidate_map(const Side& B, const PairPoints& points, const Eigen::Matrix3d& fallback,
+                        ProgressWindow progress = {}) {
   const MatrixX3d on_a = points.rows(points.a), on_b = points.rows(points.b);
   const Eigen::Matrix3d R = on_a.rows() ? best_rotation(on_b, on_a) : fallback;
   SphereFlowOptions flow;
   flow.model = &B.V;
-  const SphereFlowResult flowed = flow_sphere_map(B.F, B.map * R, on_b * R, on_a, {}, flow);
+  const SphereFlowResult flowed = flow_sphere_map(B.F, B.map * R, on_b * R, on_a, {}, flow, progress);
   if (flowed.reached >= 1) return flowed.positions;
   return warp_points(B.map * R, on_b * R, on_a, 16);
 }
@@ -348,7 +349,9 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
     if (progress) progress->report(0.86, "correspondence candidates");
     if (o.features) {
       try {
-        const features::FeatureMatch match = features::match_features(A.V, A.F, B.V, B.F, o.match);
+        const features::FeatureMatch match = run_stage(
+            "correspondence candidates", 0.86, 0.88, progress,
+            [&](Progress* p) { return features::match_features(A.V, A.F, B.V, B.F, o.match, p); });
         if (!match.point_pairs.empty())
           raw.push_back({"features", std::to_string(match.point_pairs.size()) + " feature points paired",
                          match.point_pairs, Eigen::Matrix3d::Identity(), {}});
@@ -445,8 +448,18 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
     if (order.mirrored()) {
       candidate.rejected = "its pairs are in mirrored order";
     } else {
-      const MatrixX3d warped = candidate_map(B, points, r.rotation);
+      // Each candidate's map and measures took 0.4 s on the octopus pair: reports between.
+      auto step = [&](double part) {
+        if (progress)
+          progress->report(0.88 + 0.1 * (double(c) + part) / double(raw.size()), "scoring correspondences");
+      };
+      const MatrixX3d warped =
+          candidate_map(B, points, r.rotation,
+                        ProgressWindow(progress, 0.88 + 0.1 * double(c) / double(raw.size()),
+                                       0.88 + 0.1 * (double(c) + 0.4) / double(raw.size())));
+      step(0.4);
       candidate.distortion = map_distortion(A.V, A.F, A.map, B.V, B.F, warped).mean;
+      step(0.7);
       candidate.curvature_mismatch = curvature_mismatch(A, B, warped);
       const Eigen::Matrix3d turn = best_rotation(B.map, warped, B.area);
       candidate.turn = std::acos(std::clamp(0.5 * (turn.trace() - 1), -1.0, 1.0));

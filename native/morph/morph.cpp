@@ -223,7 +223,9 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   mark("positions");
   if (progress) progress->report(0.99, "morph");
   if (o.weld_tolerance > 0) {
-    m.weld = weld_merged(m.merged, m.source, m.target, VA, p.a.F, VB, p.b.F, o.weld_tolerance);
+    m.weld = run_stage("morph", 0.99, 1.0, progress, [&](Progress* window) {
+      return weld_merged(m.merged, m.source, m.target, VA, p.a.F, VB, p.b.F, o.weld_tolerance, window);
+    });
     mark("weld");
   }
   m.timings.emplace_back("total", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());

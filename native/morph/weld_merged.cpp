@@ -119,7 +119,7 @@ struct Mesh {
 
 WeldStats weld_merged(MergedTopology& g, MatrixX3d& source_positions, MatrixX3d& target_positions,
                       const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
-                      double tolerance) {
+                      double tolerance, Progress* progress) {
   struct Ends {
     MatrixX3d& source;
     MatrixX3d& target;
@@ -160,8 +160,11 @@ WeldStats weld_merged(MergedTopology& g, MatrixX3d& source_positions, MatrixX3d&
       if (std::min(la, lb) <= kWeldReach) short_edges.emplace_back(std::max(la, lb), u, v);
     }
   std::sort(short_edges.begin(), short_edges.end());
+  std::size_t visited = 0;
   for (const auto& [length, u0, v0] : short_edges) {
     (void)length;
+    if (progress && ++visited % 256 == 0)
+      progress->report(0.9 * double(visited) / double(short_edges.size()), "welding");
     if (!mesh.vertex_alive[u0] || !mesh.vertex_alive[v0]) continue;
     if ((a_of[u0] >= 0 && a_of[v0] >= 0) || (b_of[u0] >= 0 && b_of[v0] >= 0)) continue;  // one input's two vertices
     // Keep the vertex tied to more inputs; an input's vertex keeps its place on that input.

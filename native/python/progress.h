@@ -52,9 +52,9 @@ class PythonProgress {
             }
             return truth == 1;
           },
-          // Every 0.1 s at most: a cancel is seen within that (Esc within
-          // 0.5 s, issue 20); ten calls a second cost nothing.
-          0.1);
+          // Every 0.05 s at most: a cancel is seen within that (Esc within
+          // 0.5 s, issue 20); twenty calls a second cost nothing.
+          0.05);
   }
   Progress* get() { return progress_ ? &*progress_ : nullptr; }
   void rethrow_if_failed() {

@@ -45,10 +45,35 @@ def in_view(function, *args, **kwargs):
         return function(*args, **kwargs)
 
 
+def refused_in_view(operator, *args, **kwargs):
+    """Runs an operator expected to refuse: (its result, its error report).
+    Called from Python, an ERROR report comes as RuntimeError; in the window
+    the artist reads the same line in the status bar."""
+    try:
+        return sorted(in_view(operator, *args, **kwargs)), ""
+    except RuntimeError as error:
+        return ["CANCELLED"], str(error)
+
+
 def simulate(kind, value="PRESS", xy=None, **keys):
     window, area, region = view3d()
     x, y = xy if xy is not None else (region.x + region.width // 2, region.y + region.height // 2)
     window.event_simulate(type=kind, value=value, x=x, y=y, **keys)
+
+
+def reports():
+    """The reports the artist has seen, from an Info editor (the timeline at
+    the bottom turned into one): Blender has no Python getter for them."""
+    window = bpy.context.window_manager.windows[0]
+    info = next((a for a in window.screen.areas if a.type == "INFO"), None)
+    if info is None:
+        info = min((a for a in window.screen.areas if a.type != "VIEW_3D"), key=lambda a: a.y)
+        info.type = "INFO"
+    region = next(r for r in info.regions if r.type == "WINDOW")
+    with bpy.context.temp_override(window=window, area=info, region=region):
+        bpy.ops.info.select_all(action="SELECT")
+        bpy.ops.info.report_copy()
+    return bpy.context.window_manager.clipboard.splitlines()
 
 
 # --- the panel -----------------------------------------------------------------------
@@ -123,6 +148,7 @@ def big_pair():
 def morph_invoke():
     from paramorph import native_operator
     stats["esc"]["invoke"] = sorted(in_view(bpy.ops.paramorph.morph_to, "INVOKE_DEFAULT", topology="MERGED"))
+    stats["esc"]["line_at_start"] = native_operator.status_line  # before the first progress report
     stats["esc"]["started"] = time.monotonic()
     stats["esc"]["lines"] = []
 
@@ -169,6 +195,8 @@ def wait_ended():
 
 def after_escape():
     from paramorph import jobs
+    seen = reports()
+    stats["esc"]["cancel_report"] = next((line for line in seen if "cancelled" in line), None)
     stats["esc"]["running_after"] = len(jobs.running())
     stats["esc"]["objects_after"] = sorted(o.name for o in bpy.data.objects)
     stats["esc"].pop("started"), stats["esc"].pop("pressed")
@@ -217,6 +245,73 @@ def placed_check():
     gaps = [tree.find(p)[2] for p in world - world.mean(axis=0)]
     stats["placed"]["mean_gap_share"] = float(np.mean(gaps) / extent(target_world))
     stats["placed"]["keys"] = len(keys.key_blocks)
+
+
+# --- Isometric Unwrap of a closed mesh without seams ---------------------------------------
+
+def unwrap_closed():
+    """A closed sphere without seams, all selected, unwrapped from the window:
+    refused before any work, in words that say what to do; UVs untouched."""
+    clear_scene()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12)
+    mesh = bpy.context.active_object.data
+    before = np.empty(2 * len(mesh.loops))
+    mesh.uv_layers.active.data.foreach_get("uv", before)
+    in_view(bpy.ops.object.mode_set, mode="EDIT")
+    in_view(bpy.ops.mesh.select_all, action="SELECT")
+    result, error = refused_in_view(bpy.ops.paramorph.isometric_unwrap, "INVOKE_DEFAULT")
+    stats["unwrap"] = {"invoke": result, "error": error}
+    in_view(bpy.ops.object.mode_set, mode="OBJECT")
+    after = np.empty(2 * len(mesh.loops))
+    mesh.uv_layers.active.data.foreach_get("uv", after)
+    stats["unwrap"]["uv_unchanged"] = bool(np.array_equal(before, after))
+
+
+# --- a non-manifold mesh, named in Blender's numbers, shown by Select Non Manifold ---------
+
+def fin_mesh():
+    import bmesh
+    clear_scene()
+    bpy.ops.mesh.primitive_cube_add()
+    obj = bpy.context.active_object
+    bm = bmesh.new()
+    bm.from_mesh(obj.data)
+    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=2, use_grid_fill=True)
+    bm.edges.ensure_lookup_table()
+    edge = next(e for e in bm.edges if len(e.link_faces) == 2)
+    tips = [bm.verts.new((3.0, 3.0, 3.0)), bm.verts.new((3.0, 4.0, 3.0))]
+    bm.faces.new((edge.verts[0], edge.verts[1], tips[1], tips[0]))  # a quad fin on a quad edge
+    bm.to_mesh(obj.data)
+    bm.free()
+    obj.data.update()
+    result, error = refused_in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT", repair=False)
+    stats["fin"] = {"invoke": result, "error": error, "waits": 0}
+
+
+def fin_ended():
+    """The sphere map runs in its thread and reports when it ends (waits up to 30 s)."""
+    from paramorph import native_operator
+    stats["fin"]["waits"] += 1
+    if native_operator.status_line is not None and stats["fin"]["waits"] < 60:
+        steps.insert(0, fin_ended)
+
+
+def fin_check():
+    import re
+    obj = bpy.context.active_object
+    error = stats["fin"]["error"] or next((line for line in reports() if "not manifold" in line), "")
+    stats["fin"]["error"] = error
+    match = re.search(r"\bedge (\d+)", error)
+    named = int(match.group(1)) if match else -1
+    # What Select All by Trait > Non Manifold selects (no boundary: only the fin's own edge has three faces).
+    in_view(bpy.ops.object.mode_set, mode="EDIT")
+    bpy.context.tool_settings.mesh_select_mode = (False, True, False)
+    in_view(bpy.ops.mesh.select_all, action="DESELECT")
+    in_view(bpy.ops.mesh.select_non_manifold, extend=False, use_wire=False, use_boundary=False,
+            use_multi_face=True, use_non_contiguous=False, use_verts=False)
+    in_view(bpy.ops.object.mode_set, mode="OBJECT")
+    selected = [e.index for e in obj.data.edges if e.select]
+    stats["fin"]["named_edge"], stats["fin"]["blender_selects"] = named, selected
 
 
 # --- Paste Feature that does not fit at first --------------------------------------------
@@ -307,7 +402,7 @@ def paste_after_cancel():
 
 steps = [setup, None, find_tab, None, panel_picture,
          big_pair, None, morph_invoke, wait_running(4.0), press_escape, wait_ended, None, after_escape,
-         placed_pair, keys_written, None, placed_check,
+         placed_pair, keys_written, None, placed_check, unwrap_closed, None, fin_mesh, fin_ended, None, fin_check,
          paste_setup, None, paste_invoke, wait_placing, None, paste_first_header, paste_grow, None,
          paste_after_grow, None, paste_to_a_sensible_size, None, paste_picture, paste_cancel, None, paste_after_cancel]
 

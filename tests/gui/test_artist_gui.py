@@ -1,8 +1,9 @@
 """The add-on as an artist meets it, in a real window under Xvfb (issue 20;
 tests/gui/artist_gui.py drives it with simulated input): the panel found
 and telling what to do first, a long Morph To estimated before and while it
-runs and stopped by Esc, a morph onto a scaled and turned target, and a
-paste that does not fit at first and keeps running. With
+runs and stopped by Esc, a morph onto a scaled and turned target, a closed
+mesh unwrapped without seams, a non-manifold edge named as Blender numbers
+it, and a paste that does not fit at first and keeps running. With
 PARAMORPH_SCREENSHOTS set (scripts/screenshots.sh) its pictures become the
 README's."""
 from window_run import needs_window, run_in_window
@@ -20,11 +21,23 @@ def test_the_add_on_as_an_artist_meets_it(tmp_path):
     # in the status bar while it runs; Esc ends it and nothing is added.
     esc = stats["esc"]
     assert esc["invoke"] == ["RUNNING_MODAL"] and esc["running_before"] == 1, esc
-    assert esc["faces"] > 50_000 and esc["line_before"].startswith("Morph To: "), esc
+    assert esc["faces"] == 102_400 and esc["line_before"].startswith("Morph To: "), esc
     assert any("left" in line for line in esc["lines"]), esc["lines"]
     assert esc["latency_s"] is not None and esc["running_after"] == 0, esc
     assert esc["objects_after"] == esc["objects_before"], esc
     print(f"Esc to the operator's end in the window: {esc['latency_s']} s")
+    # The estimate, in the status bar from the start, until the progress can say more.
+    assert esc["line_at_start"].startswith("Morph To: 102,400 faces: about "), esc
+    assert "estimated from the face count" in esc["line_at_start"], esc
+    assert esc["cancel_report"] and "left as it was" in esc["cancel_report"], esc
+    # Isometric Unwrap of a closed mesh without seams: refused at once, saying why; UVs untouched.
+    unwrap = stats["unwrap"]
+    assert unwrap["invoke"] == ["CANCELLED"] and unwrap["uv_unchanged"], unwrap
+    assert "1 island is closed (no seam cuts it open)" in unwrap["error"] and "Mark Seam" in unwrap["error"], unwrap
+    # A fin on a quad mesh: the report names the Blender edge, the one Select Non Manifold selects.
+    fin = stats["fin"]
+    assert fin["invoke"] == ["RUNNING_MODAL"] and fin["error"].count("not manifold") == 1, fin
+    assert fin["blender_selects"] == [fin["named_edge"]], fin
     # Morph onto a target scaled x3 and turned 45 degrees: it ends at that size and turn.
     placed = stats["placed"]
     assert placed["invoke"] == ["RUNNING_MODAL"] and placed["keys"] >= 2, placed
