@@ -49,6 +49,8 @@ def calls(faces):
     remap[used] = np.arange(len(used))
     VD, FD = V[used], remap[F[disc]].astype(np.int32)
     feature_faces = cap(V, F, 0.05)
+    feature = pm.extract_feature(V, F, feature_faces)
+    side = V[np.argmax(V[:, 0])]  # a paste on the blob's side
     return {
         "repair": lambda progress: pm.repair(V, F, progress=progress),
         "sphere_map": lambda progress: pm.sphere_map(V, F, progress=progress),
@@ -57,6 +59,7 @@ def calls(faces):
         "shape_signature": lambda progress: pm.shape_signature(V, F, progress=progress),
         "isometric_map": lambda progress: pm.isometric_map(VD, FD, progress=progress),
         "extract_feature": lambda progress: pm.extract_feature(V, F, feature_faces, progress=progress),
+        "paste_session": lambda progress: pm.PasteSession(V, F, feature, anchor=side, progress=progress),
         "morph_correspondence": lambda progress: pm.morph_correspondence(V, F, VB, FB, progress=progress),
         "morph": lambda progress: pm.morph(V, F, VB, FB, progress=progress),
     }

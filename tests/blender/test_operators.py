@@ -371,3 +371,29 @@ def test_long_runs_are_estimated_from_the_face_count_before_they_start(monkeypat
     run_time.learn("Copy Feature", 100, 50.0)  # tiny runs measure overheads: ignored
     assert run_time.estimate("Copy Feature", 80_000) == pytest.approx(2 * before)
     assert run_time.duration_words(5400) == "about 1.5 h" and run_time.duration_words(12) == "about 10 s"
+
+
+def test_the_overlay_forgets_an_object_whose_geometry_changed():
+    # The viewport overlay caches its batches per object; a depsgraph update of
+    # the geometry (an edit, Recalculate Normals, a new segmentation) drops
+    # them, so the next redraw shows the mesh as it is now (issue 20). The
+    # handler is added only with a window; here it is added by hand.
+    from paramorph import overlay
+    obj = make_samples.build_octopus(subdivisions=3)
+    other = make_samples.build_blob(name="Other", subdivisions=2)
+    bpy.context.view_layer.objects.active = obj
+    other.select_set(False)  # only the octopus goes into Edit Mode
+    obj.select_set(True)
+    assert bpy.ops.paramorph.segment_extremities() == {"FINISHED"}
+    bpy.app.handlers.depsgraph_update_post.append(overlay._forget_updated)
+    try:
+        overlay._cache[obj.name] = overlay._cache[other.name] = ("cached", None)
+        bpy.ops.object.mode_set(mode="EDIT")
+        bpy.ops.mesh.select_all(action="SELECT")
+        bpy.ops.mesh.normals_make_consistent(inside=True)  # the normals turned inwards
+        bpy.ops.object.mode_set(mode="OBJECT")
+        bpy.context.view_layer.update()
+        assert obj.name not in overlay._cache and other.name in overlay._cache
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(overlay._forget_updated)
+        overlay._cache.clear()
