@@ -11,7 +11,11 @@ The add-on as an artist meets it (issue 20), with simulated input:
   in the status bar while it runs, then Esc pressed: how long until the
   operator has ended, and nothing written;
 - Morph To between a source and a target scaled x3 and turned 45 degrees, in
-  the window: the morph ends at the target's size;
+  the window: the morph ends at the target's size and turn;
+- Sphere Map on an object with a Subdivision modifier: the reports say the
+  modifier was left out; Isometric Unwrap of a closed mesh without seams:
+  refused in words; a fin on a quad mesh: named by the Blender edge that
+  Select Non Manifold selects;
 - Paste Feature asked for a size that does not fit: the tool starts at a
   size that fits, keeps running through refused S presses (the object is not
   scaled by Blender's own S), says why in the header; screenshot "paste";
@@ -247,6 +251,28 @@ def placed_check():
     stats["placed"]["keys"] = len(keys.key_blocks)
 
 
+# --- a modifier the computation leaves out, said in the reports ------------------------------
+
+def modified_invoke():
+    clear_scene()
+    obj = make_samples.build_octopus(name="Smoothed", subdivisions=3)
+    obj.modifiers.new("Subdivision", "SUBSURF")
+    stats["modifier"] = {"invoke": sorted(in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT")), "waits": 0}
+
+
+def modified_ended():
+    from paramorph import native_operator
+    stats["modifier"]["waits"] += 1
+    if native_operator.status_line is not None and stats["modifier"]["waits"] < 60:
+        steps.insert(0, modified_ended)
+
+
+def modified_check():
+    seen = reports()
+    stats["modifier"]["warning"] = next((line for line in seen if "without its modifiers" in line), None)
+    stats["modifier"]["written"] = "Sphere" in bpy.data.objects["Smoothed"].data.uv_layers
+
+
 # --- Isometric Unwrap of a closed mesh without seams ---------------------------------------
 
 def unwrap_closed():
@@ -402,7 +428,8 @@ def paste_after_cancel():
 
 steps = [setup, None, find_tab, None, panel_picture,
          big_pair, None, morph_invoke, wait_running(4.0), press_escape, wait_ended, None, after_escape,
-         placed_pair, keys_written, None, placed_check, unwrap_closed, None, fin_mesh, fin_ended, None, fin_check,
+         placed_pair, keys_written, None, placed_check, modified_invoke, modified_ended, None, modified_check,
+         unwrap_closed, None, fin_mesh, fin_ended, None, fin_check,
          paste_setup, None, paste_invoke, wait_placing, None, paste_first_header, paste_grow, None,
          paste_after_grow, None, paste_to_a_sensible_size, None, paste_picture, paste_cancel, None, paste_after_cancel]
 

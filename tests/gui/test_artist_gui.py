@@ -30,6 +30,10 @@ def test_the_add_on_as_an_artist_meets_it(tmp_path):
     assert esc["line_at_start"].startswith("Morph To: 102,400 faces: about "), esc
     assert "estimated from the face count" in esc["line_at_start"], esc
     assert esc["cancel_report"] and "left as it was" in esc["cancel_report"], esc
+    # A modifier left out of the computation is named in the reports.
+    modifier = stats["modifier"]
+    assert modifier["invoke"] == ["RUNNING_MODAL"] and modifier["written"], modifier
+    assert "Smoothed: computed on the mesh without its modifiers (Subdivision)" in modifier["warning"], modifier
     # Isometric Unwrap of a closed mesh without seams: refused at once, saying why; UVs untouched.
     unwrap = stats["unwrap"]
     assert unwrap["invoke"] == ["CANCELLED"] and unwrap["uv_unchanged"], unwrap
