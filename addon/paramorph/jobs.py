@@ -4,6 +4,7 @@ returns False and the native side raises `Cancelled`). Blender data is only
 read before the job starts and written after it ends, on the main thread, so
 a cancelled or failed job leaves the scene as it was."""
 import threading
+import time
 
 _running = set()  # jobs whose thread is alive (started with start())
 
@@ -29,6 +30,9 @@ class NativeJob:
         self.stage = ""
         self.result = None
         self.error = None
+        # time.monotonic() of the cancel request and of the call's end (None
+        # before): how long a cancel took, for the window tests and benchmarks.
+        self.cancelled_at = self.ended_at = None
 
     def _progress(self, fraction, stage):
         self.fraction = float(fraction)
@@ -41,6 +45,7 @@ class NativeJob:
         except BaseException as error:  # handed to the main thread, reported there
             self.error = error
         finally:
+            self.ended_at = time.monotonic()
             _running.discard(self)
 
     def start(self):
@@ -55,6 +60,8 @@ class NativeJob:
         return self
 
     def cancel(self):
+        if self.cancelled_at is None:
+            self.cancelled_at = time.monotonic()
         self._cancel.set()
 
     @property

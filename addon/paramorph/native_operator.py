@@ -110,7 +110,7 @@ class NativeOperator:
         # when it ends; a cancelled one's INFO reports never do).
         self._notice = run_time.notice(self.bl_label, faces, LARGE_INPUT_FACES)
         if self._notice:
-            self.report({"INFO"}, self._notice)
+            self.report({"INFO"}, f"{self._notice}; the status bar shows the time left, Esc cancels")
             _set_status(context, f"{self._notice}  (Esc to cancel)")
         self._job = NativeJob(function, *args, **kwargs).start()
         wm = context.window_manager
@@ -133,8 +133,10 @@ class NativeOperator:
         if not job.done():
             context.window_manager.progress_update(int(100 * job.fraction))
             for area in context.screen.areas if context.screen else ():
-                if area.type == "VIEW_3D":
-                    area.tag_redraw()  # the panel's progress line
+                if area.type == "VIEW_3D":  # the sidebar's progress line; not the viewport, whose
+                    for region in area.regions:  # redraw of a large mesh ten times a second
+                        if region.type == "UI":  # slowed the run and Esc
+                            region.tag_redraw()
             if context.workspace is not None:
                 elapsed = time.monotonic() - self._started
                 left = remaining_words(elapsed, job.fraction)

@@ -50,4 +50,4 @@ def notice(label, faces, large_faces):
         return ""
     length = (f"{duration_words(seconds)} (estimated from the face count)" if seconds is not None
               else "this can take minutes")
-    return f"{label}: {faces:,} faces: {length}; the status bar shows the time left, Esc cancels"
+    return f"{label}: {faces:,} faces: {length}"

@@ -25,7 +25,8 @@ def test_the_add_on_as_an_artist_meets_it(tmp_path):
     assert any("left" in line for line in esc["lines"]), esc["lines"]
     assert esc["latency_s"] is not None and esc["running_after"] == 0, esc
     assert esc["objects_after"] == esc["objects_before"], esc
-    print(f"Esc to the operator's end in the window: {esc['latency_s']} s")
+    print(f"Esc to the operator's end in the window: {esc['latency_s']} s (Esc handed to the operator "
+          f"{esc.get('event_to_cancel_s')} s, the native call stopped {esc.get('cancel_to_end_s')} s later)")
     # The estimate, in the status bar from the start, until the progress can say more.
     assert esc["line_at_start"].startswith("Morph To: 102,400 faces: about "), esc
     assert "estimated from the face count" in esc["line_at_start"], esc
