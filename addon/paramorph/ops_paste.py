@@ -88,6 +88,7 @@ SMALLER = (0.7, 0.5, 0.35, 0.25)
 # Halvings of the way from the last place that fitted towards the mouse
 # where the mouse's place does not fit (1/32 of the way: a few pixels).
 BISECTIONS = 5
+CLOSE_ENOUGH = 0.003  # of the target's bounding-box diagonal
 
 
 def _why_not(error):
@@ -146,6 +147,7 @@ class PasteController:
         self.message = ""
         self._refusal = ("", "")  # (why, hint) of the last refusal
         self._anchor = np.asarray(session.anchor_point, dtype=np.float64)
+        self._size = float(np.linalg.norm(np.ptp(np.asarray(V), axis=0))) if len(V) else 1.0
 
     def _update(self, **placement):
         try:
@@ -191,7 +193,10 @@ class PasteController:
         why, hint = self._refusal if self.message.startswith("does not fit") else (self.message, "")
         start, reached = self._anchor.copy(), 0.0
         low, high = 0.0, 1.0
-        for _ in range(BISECTIONS):
+        # Halve down to a step of CLOSE_ENOUGH of the mesh's size, at most
+        # BISECTIONS times: a mouse move of a few pixels needs one or two.
+        length = float(np.linalg.norm(point - start)) / max(self._size, 1e-300)
+        for _ in range(min(BISECTIONS, max(1, int(np.ceil(np.log2(max(length / CLOSE_ENOUGH, 1.0))))))):
             middle = 0.5 * (low + high)
             try:
                 self.session.update(anchor=start + middle * (point - start))
