@@ -2,6 +2,8 @@
 to the plane with minimal stretch and no folds; Blender's pinned UVs are hard
 constraints and stay exactly where they are. Writes the active UV layer
 (creates "UVMap" when the mesh has none), only on the selected faces."""
+import re
+
 import bpy
 import numpy as np
 
@@ -126,6 +128,20 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
                                     (float(np.median(known)) if known else None)
                                     for d, island in zip(densities, islands)]
         return _map_islands, (islands,), options, state
+
+    def describe_error(self, error, state):
+        """Folds the pins force, in the operator's words (the native text
+        speaks to scripts: "pass allow_folds=True")."""
+        if not isinstance(error, native.ConstraintError):
+            return super().describe_error(error, state)
+        folded = re.match(r"(\d+) faces? stays? folded", str(error))
+        count = f"{folded.group(1)} faces stay folded" if folded else "some faces stay folded"
+        pins = sum(len(island.pinned) for island in state["islands"])
+        if pins:
+            return (f"the pinned UVs cannot all be met without folds ({count}; is a pin mirrored or are two "
+                    f"swapped?): move or unpin some" + (", or set Pins to Place and Turn"
+                                                        if self.pin_mode == "EXACT" else ""))
+        return f"the selection could not be flattened without folds ({count}): mark more seams"
 
     def finish(self, context, result, state):
         results, stats, offsets = result

@@ -198,3 +198,30 @@ def test_two_pins_from_a_unit_layout_place_and_turn_the_island_at_the_layouts_de
     assert np.linalg.norm((a + b) / 2 - (a0 + b0) / 2) < 0.02
     turn = np.degrees(np.arctan2(*(b - a)[::-1]) - np.arctan2(*(b0 - a0)[::-1]))
     assert abs(turn) < 2.0, turn
+
+
+def test_pins_that_force_folds_are_reported_in_the_operators_words(capfd):
+    # One quad in the middle of the pinned disc pinned at its four corners,
+    # mirrored: its triangles must fold, no map meets the pins exactly. The
+    # native message speaks to scripts ("pass allow_folds=True"); the
+    # operator's says what to do in Blender.
+    obj = make_samples.build_pinned_disc()
+    mesh = obj.data
+    uv = layer_uv(mesh)
+    pins = uv_patch.uv_pins(mesh, mesh.uv_layers.active)
+    loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    centres = np.array([p.center[:2] for p in mesh.polygons])
+    middle = mesh.polygons[int(np.argmin(np.linalg.norm(centres, axis=1)))]
+    corners = np.isin(loop_vertex, list(middle.vertices))
+    mean = uv[corners].mean(axis=0)
+    uv[corners, 0] = 2 * mean[0] - uv[corners, 0]  # mirrored about its centre
+    pins = pins | corners
+    make_samples.write_uvs_and_pins(mesh, uv, pins)
+    select_faces(mesh, np.ones(len(mesh.polygons), dtype=bool))
+    with pytest.raises(RuntimeError) as raised:
+        unwrap(obj, pin_mode="EXACT")
+    text = str(raised.value)
+    assert "the pinned UVs cannot all be met without folds" in text and "allow_folds" not in text, text
+    assert "set Pins to Place and Turn" in text, text
+    np.testing.assert_allclose(layer_uv(mesh), uv, atol=1e-6)  # nothing written (uv is float32 there)
