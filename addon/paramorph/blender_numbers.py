@@ -22,6 +22,15 @@ class MeshNumbering:
         keys = edge_vertices[:, 0] * self._n + edge_vertices[:, 1]
         self._order = np.argsort(keys)
         self._keys = keys[self._order]
+        self.areas = np.empty(len(mesh.polygons), dtype=np.float64)
+        mesh.polygons.foreach_get("area", self.areas)
+
+    def flat(self, polygons):
+        """Which of the polygons have (near) zero area themselves, against the
+        mesh's median: a quad with three corners in a line has a zero-area
+        triangle but not a zero area."""
+        typical = float(np.median(self.areas)) if len(self.areas) else 0.0
+        return self.areas[np.asarray(polygons, dtype=np.int64)] <= 1e-6 * typical
 
     def polygons(self, triangles):
         """Sorted polygons of the given loop triangles."""
@@ -93,7 +102,11 @@ def describe_problem(error_text, report, numbering):
                 "Mesh > Normals > Recalculate Outside")
     if "degenerate face" in error_text and len(report.degenerate_faces):
         polygons = numbering.polygons(report.degenerate_faces)
-        return (f"mesh has {_count(len(polygons), 'zero-area polygon', 'zero-area polygons')} "
-                f"({listed('polygon', 'polygons', polygons)}): Mesh > Clean Up > Degenerate Dissolve "
-                "fixes them")
+        if numbering.flat(polygons).all():
+            return (f"mesh has {_count(len(polygons), 'zero-area polygon', 'zero-area polygons')} "
+                    f"({listed('polygon', 'polygons', polygons)}): Mesh > Clean Up > Degenerate Dissolve "
+                    "fixes them")
+        return (f"mesh has {_count(len(polygons), 'polygon', 'polygons')} with a corner on a straight line "
+                f"between two others, so part of it has no area ({listed('polygon', 'polygons', polygons)}): "
+                "Mesh > Clean Up > Limited Dissolve removes such corners, or move them")
     return None

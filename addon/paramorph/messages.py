@@ -38,14 +38,14 @@ def _describe(error, V, F, repair, numbering):
     pm = native
     if pm is None:
         return str(error)
+    if isinstance(error, pm.Cancelled):  # before validating: nothing to count
+        return "cancelled: the mesh was left as it was"
     report = None
     if V is not None and F is not None:
         try:
             report = pm.validate(V, F)
         except Exception:  # the arrays themselves are bad: fall back to the error text
             report = None
-    if isinstance(error, pm.Cancelled):
-        return "cancelled: the mesh was left as it was"
     selection = _selection_message(pm, error)
     if selection is not None:
         return selection

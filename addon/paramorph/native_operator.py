@@ -16,7 +16,7 @@ from .native import load_error, native
 
 # How long Esc waits for the native call to stop before going back to the
 # event loop (it then ends on a later timer event).
-CANCEL_WAIT_SECONDS = 1.0
+CANCEL_WAIT_SECONDS = 0.5
 
 # Above this many input faces an operator says before it starts that it may
 # take minutes (a 97k-face horse morphed for 16 minutes with no warning).
@@ -29,6 +29,14 @@ def remaining_words(elapsed, fraction):
     if fraction < 0.05 or elapsed < 2.0:
         return ""
     return f"  {run_time.duration_words(elapsed * (1.0 - fraction) / fraction)} left"
+
+
+def numbering_for(error, object_name, F):
+    """numbering_of for the mesh-problem errors that name elements; None for
+    the others (a cancel or a failed solve reads no mesh again)."""
+    if native is None or not isinstance(error, (native.NonManifoldError, native.DegenerateFaceError)):
+        return None
+    return numbering_of(object_name, F)
 
 
 def numbering_of(object_name, F):
@@ -87,7 +95,7 @@ class NativeOperator:
         arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
         name = state.get("object") if isinstance(state, dict) else None
         return messages.describe(error, *arrays, repair=getattr(self, "repair", None),
-                                 numbering=numbering_of(name, arrays[1]))
+                                 numbering=numbering_for(error, name, arrays[1]))
 
     def execute(self, context):
         prepared = self._prepare_or_report(context)
@@ -104,8 +112,11 @@ class NativeOperator:
             return {"CANCELLED"}
         function, args, kwargs, self._state = prepared
         self._started = time.monotonic()
-        self._faces = faces = sum(len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,)
-                                  and a.dtype.kind == "i")
+        # The input's faces: state["faces"] where prepare() counted them (inputs
+        # passed as lists), else the (m, 3) integer arrays among the arguments.
+        counted = self._state.get("faces") if isinstance(self._state, dict) else None
+        self._faces = faces = counted if counted is not None else sum(
+            len(a) for a in args if getattr(a, "ndim", 0) == 2 and a.shape[1:] == (3,) and a.dtype.kind == "i")
         # Said in the status bar at once (a modal operator's reports show only
         # when it ends; a cancelled one's INFO reports never do).
         self._notice = run_time.notice(self.bl_label, faces, LARGE_INPUT_FACES)

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import bridge, messages, morph_job, morph_object, overlay, poll_reasons, repair_mesh
 from .native import native
-from .native_operator import NativeOperator, UserError, numbering_of
+from .native_operator import NativeOperator, UserError, numbering_for
 
 
 def two_objects(context):
@@ -228,7 +228,7 @@ class _TwoMeshes(NativeOperator):
                 stripped = _with_text(error, text[len(tag):])
                 arrays = state['arrays_' + side]
                 described = messages.describe(stripped, *arrays, repair=getattr(self, "repair", None),
-                                              numbering=numbering_of(state[side], arrays[1]))
+                                              numbering=numbering_for(stripped, state[side], arrays[1]))
                 return f"{state[side]}: {described}"
         if isinstance(error, native.InvalidInputError):  # pins or pairs out of range
             return f"{pair}: {text} (A: {state['source']}, B: {state['target']})"

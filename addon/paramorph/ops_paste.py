@@ -17,7 +17,7 @@ from mathutils.bvhtree import BVHTree
 from . import bridge, feature_store, messages, paste_mesh, paste_preview, poll_reasons, regions, view_ray
 from .jobs import NativeJob
 from .native import load_error, native
-from .native_operator import NativeOperator, UserError, numbering_of
+from .native_operator import NativeOperator, UserError, numbering_for
 from .preferences import backend
 
 ROTATE_STEP = math.radians(15.0)
@@ -85,10 +85,11 @@ def cursor_in_object(context, obj):
 
 # Smaller sizes a paste tries, in turn, where the feature does not fit.
 SMALLER = (0.7, 0.5, 0.35, 0.25)
-# Halvings of the way from the last place that fitted towards the mouse
-# where the mouse's place does not fit (1/32 of the way: a few pixels).
+# Where the mouse's place does not fit, the way from the last place that
+# fitted is halved down to CLOSE_ENOUGH of the target's bounding-box
+# diagonal, at most BISECTIONS times (a long drag stops at 1/32 of its length).
 BISECTIONS = 5
-CLOSE_ENOUGH = 0.003  # of the target's bounding-box diagonal
+CLOSE_ENOUGH = 0.003
 
 
 def _why_not(error):
@@ -191,19 +192,30 @@ class PasteController:
         if self._update(anchor=point):
             return True
         why, hint = self._refusal if self.message.startswith("does not fit") else (self.message, "")
-        start, reached = self._anchor.copy(), 0.0
+        start, reached, astray = self._anchor.copy(), 0.0, False
         low, high = 0.0, 1.0
         # Halve down to a step of CLOSE_ENOUGH of the mesh's size, at most
         # BISECTIONS times: a mouse move of a few pixels needs one or two.
         length = float(np.linalg.norm(point - start)) / max(self._size, 1e-300)
         for _ in range(min(BISECTIONS, max(1, int(np.ceil(np.log2(max(length / CLOSE_ENOUGH, 1.0))))))):
             middle = 0.5 * (low + high)
+            wanted = start + middle * (point - start)
             try:
-                self.session.update(anchor=start + middle * (point - start))
+                self.session.update(anchor=wanted)
             except (native.TargetTooSmallError, native.InvalidInputError):
                 high = middle
                 continue
+            # The straight line may pass through the inside (a thin part, a
+            # concave side): a midpoint that snapped far from it landed on
+            # another part of the surface, not on the way to the mouse.
+            astray = np.linalg.norm(np.asarray(self.session.anchor_point) - wanted) > 0.25 * np.linalg.norm(
+                point - start)
+            if astray:
+                high = middle
+                continue
             low = reached = middle
+        if astray:  # the session was left there: back to the last place on the way
+            self.session.update(anchor=start + reached * (point - start))
         if reached == 0.0:
             return False
         self._anchor = start + reached * (point - start)
@@ -323,7 +335,7 @@ class PARAMORPH_OT_paste_feature(bpy.types.Operator):
 
     def _describe(self, error, V, F):
         obj = bpy.context.active_object
-        return messages.describe(error, V, F, numbering=numbering_of(obj.name if obj else None, F))
+        return messages.describe(error, V, F, numbering=numbering_for(error, obj.name if obj else None, F))
 
     def _write(self, context, obj, datablock, V, F, tri_poly, session):
         V2, F2, new_faces = session.result()

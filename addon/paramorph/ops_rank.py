@@ -54,7 +54,9 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
     object's (area-stretch signatures of conformal sphere maps)"""
     bl_idname = "paramorph.rank_similar_shapes"
     bl_label = "Rank Similar Shapes"
-    bl_options = {"REGISTER"}  # writes only the list shown in the panel
+    # UNDO as well: Blender shows the redo panel (Repair, Apply Modifiers) only
+    # for operators with both; what it writes is the scene's list.
+    bl_options = {"REGISTER", "UNDO"}
 
     repair: repair_mesh.REPAIR_PROPERTY
     apply_modifiers: bpy.props.BoolProperty(
@@ -75,6 +77,7 @@ class PARAMORPH_OT_rank_similar_shapes(NativeOperator, bpy.types.Operator):
             V = bridge.as_placed(V, obj)
             items.append((obj.name, sphere_cache.key(V, F), V, F))
         state = {"active": active.name, "arrays": (items[0][2], items[0][3]),
+                 "faces": sum(len(item[3]) for item in items),
                  "objects": [] if self.apply_modifiers else [obj.name for obj in [active] + others]}
         return _signatures, (items,), {"backend": backend(context), "repair": self.repair}, state
 

@@ -112,7 +112,7 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
             pins = uv_patch.uv_pins(mesh, layer) if layer is not None else None
             islands = uv_patch.selected_islands(mesh, selected, uv, pins)
         _require_discs(islands)
-        state = {"object": obj.name, "islands": islands,
+        state = {"object": obj.name, "islands": islands, "faces": sum(len(island.F) for island in islands),
                  "layer": layer.name if layer is not None else "UVMap"}
         options = {"max_iterations": self.max_iterations, "backend": backend(context),
                    "margin": self.margin}
@@ -132,15 +132,16 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
     def describe_error(self, error, state):
         """Folds the pins force, in the operator's words (the native text
         speaks to scripts: "pass allow_folds=True")."""
-        if not isinstance(error, native.ConstraintError):
-            return super().describe_error(error, state)
         folded = re.match(r"(\d+) faces? stays? folded", str(error))
-        count = f"{folded.group(1)} faces stay folded" if folded else "some faces stay folded"
-        pins = sum(len(island.pinned) for island in state["islands"])
+        if not isinstance(error, native.ConstraintError) or folded is None:
+            return super().describe_error(error, state)
+        count = int(folded.group(1))
+        count = f"{count} face stays folded" if count == 1 else f"{count} faces stay folded"
+        # Only exact pins are constraints; placed ones only place and turn their island.
+        pins = sum(len(island.pinned) for island in state["islands"]) if self.pin_mode == "EXACT" else 0
         if pins:
             return (f"the pinned UVs cannot all be met without folds ({count}; is a pin mirrored or are two "
-                    f"swapped?): move or unpin some" + (", or set Pins to Place and Turn"
-                                                        if self.pin_mode == "EXACT" else ""))
+                    "swapped?): move or unpin some, or set Pins to Place and Turn")
         return f"the selection could not be flattened without folds ({count}): mark more seams"
 
     def finish(self, context, result, state):

@@ -2,8 +2,9 @@
 morph ran 16 minutes with no warning). Each operator has a rate, seconds at
 100k input faces, scaled as faces^1.2 (the solvers are a little worse than
 linear); the defaults were measured on the 2-core machine the benchmarks run
-on (tests/bench/esc_latency.py's meshes), and every finished run replaces
-its operator's rate, so later estimates follow the artist's own machine."""
+on (tests/bench/esc_latency.py's meshes), and every finished run moves its
+operator's rate towards what it took, so later estimates follow the
+artist's own machine."""
 EXPONENT = 1.2
 # Estimates at least this long are said before the run starts.
 SAY_FROM_SECONDS = 20.0
@@ -28,10 +29,13 @@ def estimate(label, faces):
 
 
 def learn(label, faces, seconds):
-    """A finished run: its rate replaces the default (runs on small inputs say
-    more about overheads than rates, and are left out)."""
-    if faces >= 5_000 and seconds > 0:
-        _rates[label] = seconds / (faces / 1e5) ** EXPONENT
+    """A finished run moves its operator's rate halfway (geometrically) to
+    what it measured. Runs on small inputs or under a second say more about
+    overheads and caches (a repeated Sphere Map or Rank reuses its maps) than
+    rates, and are left out."""
+    if faces >= 5_000 and seconds >= 1.0 and label in _rates:
+        measured = seconds / (faces / 1e5) ** EXPONENT
+        _rates[label] = (_rates[label] * measured) ** 0.5
 
 
 def duration_words(seconds):

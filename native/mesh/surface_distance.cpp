@@ -1,6 +1,8 @@
 // Sampled one-sided and Hausdorff distances between surfaces (mesh/surface_distance.h).
 #include "mesh/surface_distance.h"
 
+#include <algorithm>
+
 #include "mesh/closest_points.h"
 
 namespace paramorph {
@@ -22,19 +24,36 @@ MatrixX3d samples(const MatrixX3d& V, const MatrixX3i& F) {
   return out;
 }
 
-void one_side(const MatrixX3d& V, const MatrixX3i& F, const ClosestPointTree& other, double* largest, double* mean) {
-  const ClosestPoints found = other.query(samples(V, F));
-  *largest = found.distance.size() ? found.distance.maxCoeff() : 0.0;
-  *mean = found.distance.size() ? found.distance.mean() : 0.0;
+/// The samples of (V, F) against `other`, in chunks with a report between
+/// them (into [lo, hi] of `progress`).
+void one_side(const MatrixX3d& V, const MatrixX3i& F, const ClosestPointTree& other, double* largest, double* mean,
+              Progress* progress, double lo, double hi) {
+  constexpr Index kChunk = 65536;
+  const MatrixX3d points = samples(V, F);
+  const Index n = Index(points.rows());
+  double most = 0.0, sum = 0.0;
+  for (Index first = 0; first < n; first += kChunk) {
+    if (progress) progress->report(lo + (hi - lo) * double(first) / double(n), "surface distance");
+    const ClosestPoints found = other.query(points.middleRows(first, std::min(kChunk, n - first)));
+    most = std::max(most, found.distance.maxCoeff());
+    sum += found.distance.sum();
+  }
+  *largest = most;
+  *mean = n ? sum / double(n) : 0.0;
 }
 
 }  // namespace
 
-SurfaceDistance surface_distance(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB) {
+SurfaceDistance surface_distance(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                                 Progress* progress) {
   SurfaceDistance out;
-  const ClosestPointTree tree_a(VA, FA), tree_b(VB, FB);
-  one_side(VA, FA, tree_b, &out.a_to_b, &out.mean_a_to_b);
-  one_side(VB, FB, tree_a, &out.b_to_a, &out.mean_b_to_a);
+  if (progress) progress->report(0.0, "surface distance");
+  const ClosestPointTree tree_a(VA, FA);
+  if (progress) progress->report(0.1, "surface distance");
+  const ClosestPointTree tree_b(VB, FB);
+  one_side(VA, FA, tree_b, &out.a_to_b, &out.mean_a_to_b, progress, 0.2, 0.6);
+  one_side(VB, FB, tree_a, &out.b_to_a, &out.mean_b_to_a, progress, 0.6, 1.0);
+  if (progress) progress->report(1.0, "surface distance");
   return out;
 }
 

@@ -4,6 +4,7 @@
 // on the other surface (CGAL AABB tree, mesh/closest_points.h).
 #pragma once
 
+#include "common/progress.h"
 #include "mesh/types.h"
 
 namespace paramorph {
@@ -16,7 +17,9 @@ struct SurfaceDistance {
 };
 
 /// VA, FA and VB, FB: triangle meshes (each with a face of non-zero area).
-/// InvalidInputError for malformed arrays.
-SurfaceDistance surface_distance(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB);
+/// InvalidInputError for malformed arrays. progress: 0..1 over the queries
+/// (a 370k-face mesh takes seconds); cancel throws Cancelled.
+SurfaceDistance surface_distance(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                                 Progress* progress = nullptr);
 
 }  // namespace paramorph

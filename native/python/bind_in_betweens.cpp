@@ -12,6 +12,7 @@
 #include "morph/shape_interpolation.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
+#include "python/progress.h"
 
 namespace paramorph::python {
 
@@ -24,14 +25,18 @@ sparse factor computed here, once; at(t) is then one solve. Exact at t = 0
 and 1; each connected part's vertex mean moves on the straight line.
 
 source, target: (n, 3) positions; F: (m, 3) faces. InvalidInputError for
-mismatched or malformed arrays.)doc")
-      .def(py::init([](const py::object& source, const py::object& target, const py::object& F) {
+mismatched or malformed arrays. progress(fraction, stage) as elsewhere
+(the setup takes seconds on a merged mesh of a few 100k faces; returning
+False cancels with Cancelled).)doc")
+      .def(py::init([](const py::object& source, const py::object& target, const py::object& F,
+                       py::object progress) {
              const MatrixX3d s = to_vertices(source, "source"), t = to_vertices(target, "target");
              const MatrixX3i f = to_faces(F, "F");
-             py::gil_scoped_release release;
-             return std::make_unique<morph::ShapeInterpolation>(s, t, f);
+             PythonProgress bridge(std::move(progress));
+             return run_without_gil(bridge,
+                                    [&] { return std::make_unique<morph::ShapeInterpolation>(s, t, f, bridge.get()); });
            }),
-           py::arg("source"), py::arg("target"), py::arg("F"))
+           py::arg("source"), py::arg("target"), py::arg("F"), py::kw_only(), py::arg("progress") = py::none())
       .def(
           "at",
           [](const morph::ShapeInterpolation& self, double t) {
@@ -85,15 +90,16 @@ mismatched or malformed arrays.)doc")
       });
   m.def(
       "surface_distance",
-      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB) {
+      [](const py::object& VA, const py::object& FA, const py::object& VB, const py::object& FB,
+         py::object progress) {
         const MatrixX3d va = to_vertices(VA, "VA"), vb = to_vertices(VB, "VB");
         const MatrixX3i fa = to_faces(FA, "FA"), fb = to_faces(FB, "FB");
         require_mesh(va, fa, "A");
         require_mesh(vb, fb, "B");
-        py::gil_scoped_release release;
-        return surface_distance(va, fa, vb, fb);
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] { return surface_distance(va, fa, vb, fb, bridge.get()); });
       },
-      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"),
+      py::arg("VA"), py::arg("FA"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("progress") = py::none(),
       "Sampled distances between two surfaces (vertices, edge midpoints, face centroids to the other's closest points).");
 }
 

@@ -104,3 +104,24 @@ def test_a_problem_on_a_quad_diagonal_names_the_polygons_it_lies_in():
     assert not any({0, 2} == set(e.vertices) for e in mesh.edges)
     text = refused()
     assert "1 edge has more than two faces (inside polygons 0, 1)" in text, text
+
+
+def test_zero_area_polygons_and_corners_on_a_line_are_told_apart():
+    # A quad squashed flat has no area (Degenerate Dissolve); a quad with a
+    # corner moved onto the line between two others has area, but one of its
+    # triangles has none (Limited Dissolve removes that corner).
+    for squash, words in ((True, "1 zero-area polygon"), (False, "1 polygon with a corner on a straight line")):
+        bpy.ops.object.select_all(action="DESELECT")
+        obj = quad_ball()
+        mesh = obj.data
+        polygon = mesh.polygons[21]
+        a, b, c, d = (mesh.vertices[v].co.copy() for v in polygon.vertices)
+        if squash:  # every corner onto the a-c diagonal
+            mesh.vertices[polygon.vertices[1]].co = a.lerp(c, 0.4)
+            mesh.vertices[polygon.vertices[3]].co = a.lerp(c, 0.6)
+        else:  # b onto the straight line a-c: the a-b-c triangle has no area
+            mesh.vertices[polygon.vertices[1]].co = a.lerp(c, 0.5)
+        mesh.update()
+        text = refused()
+        assert words in text and numbers_after(text, "polygon") == [21], text
+        bpy.data.objects.remove(obj)

@@ -38,7 +38,9 @@ def test_operators_are_registered_and_searchable():
         op = getattr(bpy.ops.paramorph, idname)
         rna = op.get_rna_type()
         assert rna.name and rna.description, idname  # F3 search shows name and tooltip
-    assert {"REGISTER", "UNDO"} <= set(bpy.types.PARAMORPH_OT_sphere_map.bl_options)
+    for idname in ("sphere_map", "segment_extremities", "rank_similar_shapes", "isometric_unwrap"):
+        # Both, or Blender shows no redo panel for the options (Repair, Apply Modifiers).
+        assert {"REGISTER", "UNDO"} <= set(getattr(bpy.types, f"PARAMORPH_OT_{idname}").bl_options), idname
     assert hasattr(bpy.types, "PARAMORPH_PT_main")
 
 
@@ -208,13 +210,16 @@ def test_rank_similar_shapes_compares_what_the_viewport_shows(capfd):
     modifier.cast_type, modifier.factor = "SPHERE", 1.0
     make_samples.build_octopus(name="Tripod", subdivisions=4, limbs=3)
     bpy.context.view_layer.objects.active = reference
-    distance = {}
+    distance, said = {}, {}
+    capfd.readouterr()
     for apply in (True, False):
         assert bpy.ops.paramorph.rank_similar_shapes(apply_modifiers=apply) == {"FINISHED"}
         distance[apply] = {i.object_name: i.distance for i in bpy.context.scene.paramorph_similar}
+        said[apply] = capfd.readouterr().out
     assert 0 <= distance[True]["Cast"] < 0.5 * distance[False]["Cast"], distance
-    # Off, it says which objects were compared without their modifiers.
-    assert "Cast: computed on the mesh without its modifiers (Cast)" in capfd.readouterr().out
+    # Off, it says which objects were compared without their modifiers; on, nothing to say.
+    assert "Cast: computed on the mesh without its modifiers (Cast)" in said[False], said
+    assert "without its modifiers" not in said[True], said
 
 
 def test_segmentation_reuses_the_sphere_map_of_the_same_geometry(monkeypatch):
@@ -364,12 +369,16 @@ def test_long_runs_are_estimated_from_the_face_count_before_they_start(monkeypat
     assert run_time.notice("Sphere Map", 20_000, 50_000) == ""
     # Over the large-input threshold it is said even when quick, with the count.
     assert run_time.notice("Sphere Map", 60_000, 50_000).startswith("Sphere Map: 60,000 faces: about")
-    # A finished run teaches the rate: a machine twice as slow doubles the next estimate.
-    before = run_time.estimate("Copy Feature", 80_000)
-    run_time.learn("Copy Feature", 40_000, 2 * run_time.estimate("Copy Feature", 40_000))
-    assert run_time.estimate("Copy Feature", 80_000) == pytest.approx(2 * before)
-    run_time.learn("Copy Feature", 100, 50.0)  # tiny runs measure overheads: ignored
-    assert run_time.estimate("Copy Feature", 80_000) == pytest.approx(2 * before)
+    # Finished runs teach the rate: on a machine four times as slow the next
+    # estimate doubles (halfway, geometrically), the one after nears four times.
+    before = run_time.estimate("Morph To", 80_000)
+    run_time.learn("Morph To", 40_000, 4 * run_time.estimate("Morph To", 40_000))
+    assert run_time.estimate("Morph To", 80_000) == pytest.approx(2 * before)
+    run_time.learn("Morph To", 100, 50.0)  # tiny runs measure overheads: ignored
+    run_time.learn("Morph To", 80_000, 0.2)  # so do runs under a second (a cached map)
+    assert run_time.estimate("Morph To", 80_000) == pytest.approx(2 * before)
+    run_time.learn("Morph To", 80_000, 4 * before)
+    assert run_time.estimate("Morph To", 80_000) == pytest.approx(2 ** 1.5 * before)
     assert run_time.duration_words(5400) == "about 1.5 h" and run_time.duration_words(12) == "about 10 s"
 
 

@@ -204,3 +204,18 @@ def test_an_inside_out_source_morphed_on_its_own_topology():
         volumes.append(volume(P, FA))
     volumes.append(volume(end, FA))
     assert np.all(np.diff(volumes) > 0)  # from the cow's towards the horse's, monotone
+
+
+def test_setup_reports_progress_and_cancels_and_then_gives_the_same_in_betweens():
+    # The setup takes seconds on a merged mesh of a few 100k faces (issue 20:
+    # Esc within 0.5 s): it reports and stops when asked.
+    V, F = meshes.noisy_blob(subdivisions=3, seed=4)
+    W = V * 1.3 + 0.2 * np.sin(3 * V[:, [1, 2, 0]])
+    seen = []
+    interp = pm.ShapeInterpolation(V, W, F, progress=lambda f, stage: seen.append((f, stage)))
+    fractions = [f for f, _ in seen]
+    assert fractions[0] == 0.0 and fractions[-1] == 1.0 and fractions == sorted(fractions)
+    assert {stage for _, stage in seen} == {"in-betweens: setup"}
+    np.testing.assert_allclose(interp.at(0.4), pm.ShapeInterpolation(V, W, F).at(0.4), atol=1e-12)
+    with pytest.raises(pm.Cancelled):
+        pm.ShapeInterpolation(V, W, F, progress=lambda f, stage: f == 0.0)

@@ -37,3 +37,13 @@ def test_malformed_arrays_are_refused():
     V, F = meshes.icosphere(1)
     with pytest.raises(pm.InvalidInputError):
         pm.surface_distance(V, F + len(V), V, F)
+
+
+def test_progress_is_reported_and_cancels():
+    V, F = meshes.icosphere(3)
+    seen = []
+    d = pm.surface_distance(V, F, 1.1 * V, F, progress=lambda f, stage: seen.append(f))
+    assert seen[0] == 0.0 and seen[-1] == 1.0 and seen == sorted(seen)
+    assert d.a_to_b == pm.surface_distance(V, F, 1.1 * V, F).a_to_b
+    with pytest.raises(pm.Cancelled):
+        pm.surface_distance(V, F, V, F, progress=lambda f, stage: f == 0.0)
