@@ -692,7 +692,7 @@ def gen_self_intersections(g):
 
 def gen_surface_distance(g):
     a, b = g.mesh("any", "A"), g.mesh("any", "B")
-    return (a.V, a.F, b.V, b.F), {}
+    return (a.V, a.F, b.V, b.F), g.options({"progress": PROGRESS})
 
 
 def _feature_source(g):
@@ -870,7 +870,7 @@ def _interpolation_args(g):
 
 def gen_shape_interpolation(g):
     m, source, target = _interpolation_args(g)
-    return (source, target, m.F), {}
+    return (source, target, m.F), g.options({"progress": PROGRESS})
 
 
 def gen_shape_interpolation_at(g):

@@ -32,7 +32,10 @@ def with_row(X, value, row=0):
     lambda p: pm.feature_regions(V, F, progress=p),
     lambda p: pm.balanced_sphere_map(V, F, progress=p),
     lambda p: pm.isometric_map(*meshes.open_disc(), progress=p),
-], ids=["sphere_map", "feature_regions", "balanced_sphere_map", "isometric_map"])
+    lambda p: pm.ShapeInterpolation(V, 2 * V, F, progress=p),
+    lambda p: pm.surface_distance(V, F, V, F, progress=p),
+], ids=["sphere_map", "feature_regions", "balanced_sphere_map", "isometric_map", "ShapeInterpolation",
+        "surface_distance"])
 def test_a_progress_that_cannot_be_called_is_refused_at_once(call, progress):
     with pytest.raises(pm.InvalidInputError, match="progress must be None or a callable"):
         call(progress)
