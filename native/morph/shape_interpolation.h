@@ -61,6 +61,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -96,6 +97,8 @@ class ShapeInterpolation {
   /// Per face, what it asks for at t: R̄(t) and the straight mix (neighbourhood
   /// = true), or its own R(t) S(t).
   Eigen::Matrix3d wish(Index f, double t, bool neighbourhood) const;
+  /// factor_ of H (consumed), reporting to `progress` while it runs.
+  void factor(Eigen::SparseMatrix<double>& H, Progress* progress);
   /// Per face, the unit normals of the ends carried to t by the global
   /// rotation, and the ends' own: a face is turned over at t when its normal
   /// is against both of either pair. Against the ends' own normals alone, a
@@ -168,7 +171,7 @@ class ShapeInterpolation {
   VectorXi anchor_of_;        ///< per part: the vertex held at 0 in the solve
   VectorXi unknown_;          ///< per vertex: its row in the solve, -1 for anchors and loose vertices
   struct Factor;              ///< the fit's sparse Cholesky factor (Eigen + METIS, kept out of this header)
-  std::unique_ptr<Factor> factor_;
+  std::shared_ptr<Factor> factor_;  // shared: a cancelled setup leaves it to the thread factoring it
   Index degenerate_ = 0;
   double global_angle_ = 0;
 };
