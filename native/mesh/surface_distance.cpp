@@ -28,7 +28,7 @@ MatrixX3d samples(const MatrixX3d& V, const MatrixX3i& F) {
 /// them (into [lo, hi] of `progress`).
 void one_side(const MatrixX3d& V, const MatrixX3i& F, const ClosestPointTree& other, double* largest, double* mean,
               Progress* progress, double lo, double hi) {
-  constexpr Index kChunk = 65536;
+  constexpr Index kChunk = 16384;  // ~0.1 s of queries between reports
   const MatrixX3d points = samples(V, F);
   const Index n = Index(points.rows());
   double most = 0.0, sum = 0.0;
