@@ -2,6 +2,7 @@
 mesh the native validator sees loop triangles, whose numbers and diagonals
 are not Blender's polygons and edges. Each case builds a quad mesh with one
 known fault and checks the report names exactly the faulty elements."""
+import contextlib
 import re
 
 import bmesh
@@ -12,15 +13,22 @@ import pytest
 pytestmark = pytest.mark.usefixtures("addon_scene")
 
 
+@contextlib.contextmanager
+def editing(mesh):
+    """A BMesh of `mesh`, written back when the block ends."""
+    bm = bmesh.new()
+    bm.from_mesh(mesh)
+    yield bm
+    bm.to_mesh(mesh)
+    bm.free()
+
+
 def quad_ball():
     """A closed all-quad ball (a subdivided cube), active and selected."""
     bpy.ops.mesh.primitive_cube_add(size=2.0)
     obj = bpy.context.active_object
-    bm = bmesh.new()
-    bm.from_mesh(obj.data)
-    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=3, use_grid_fill=True)
-    bm.to_mesh(obj.data)
-    bm.free()
+    with editing(obj.data) as bm:
+        bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=3, use_grid_fill=True)
     assert all(p.loop_total == 4 for p in obj.data.polygons)
     return obj
 
@@ -43,15 +51,12 @@ def edge_index(mesh, a, b):
 
 def test_a_fin_on_a_quad_edge_names_the_blender_edge():
     obj = quad_ball()
-    bm = bmesh.new()
-    bm.from_mesh(obj.data)
-    bm.edges.ensure_lookup_table()
-    edge = bm.edges[17]
-    a, b = (v.index for v in edge.verts)
-    tip1, tip2 = bm.verts.new((4.0, 4.0, 4.0)), bm.verts.new((4.0, 5.0, 4.0))
-    bm.faces.new((edge.verts[0], edge.verts[1], tip2, tip1))  # a quad fin: three faces on one edge
-    bm.to_mesh(obj.data)
-    bm.free()
+    with editing(obj.data) as bm:
+        bm.edges.ensure_lookup_table()
+        edge = bm.edges[17]
+        a, b = (v.index for v in edge.verts)
+        tip1, tip2 = bm.verts.new((4.0, 4.0, 4.0)), bm.verts.new((4.0, 5.0, 4.0))
+        bm.faces.new((edge.verts[0], edge.verts[1], tip2, tip1))  # a quad fin: three faces on one edge
     text = refused()
     assert text.count("not manifold") == 1 and "1 edge has more than two faces" in text, text
     assert numbers_after(text, "edge") == [edge_index(obj.data, a, b)], text
@@ -76,13 +81,9 @@ def test_a_duplicate_quad_names_the_blender_polygon_not_its_triangles():
 
 def test_one_quad_turned_over_names_its_four_blender_edges():
     obj = quad_ball()
-    bm = bmesh.new()
-    bm.from_mesh(obj.data)
-    bm.faces.ensure_lookup_table()
-    flipped = bm.faces[30]
-    bmesh.ops.reverse_faces(bm, faces=[flipped])
-    bm.to_mesh(obj.data)
-    bm.free()
+    with editing(obj.data) as bm:
+        bm.faces.ensure_lookup_table()
+        bmesh.ops.reverse_faces(bm, faces=[bm.faces[30]])
     text = refused(bpy.ops.paramorph.segment_extremities)
     expected = sorted(obj.data.polygons[30].edge_keys)
     expected = sorted(edge_index(obj.data, a, b) for a, b in expected)

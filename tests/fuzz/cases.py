@@ -550,25 +550,26 @@ MORPH_OPTIONS = {"automatic": ("bool",), "proxy_faces": ("int", 4, 400), "extrem
                  "registration": ("bool",), "features": ("bool",), "progress": PROGRESS}
 
 
-def gen_morph(g):
-    a, b = g.mesh("closed", "A"), g.mesh("closed", "B")
-    kw = g.options(dict(MORPH_OPTIONS, merge_tolerance=("float", 1e-9, 1e-3),
-                        weld_tolerance=("float", 0.0, 1e-3)))
+def _with_pins_and_pairs(g, a, b, kw):
+    """The morph calls' arguments, sometimes with pins and given pairs."""
     if g.chance(0.3):
         kw["pins"] = _pairs(g, a, b, "pins")
     if g.chance(0.2):
         kw["pairs"] = _pairs(g, a, b, "pairs")
     return (a.V, a.F, b.V, b.F), kw
+
+
+def gen_morph(g):
+    a, b = g.mesh("closed", "A"), g.mesh("closed", "B")
+    kw = g.options(dict(MORPH_OPTIONS, merge_tolerance=("float", 1e-9, 1e-3),
+                        weld_tolerance=("float", 0.0, 1e-3)))
+    return _with_pins_and_pairs(g, a, b, kw)
 
 
 def gen_morph_correspondence(g):
     a, b = g.mesh("closed", "A"), g.mesh("closed", "B")
     kw = g.options(MORPH_OPTIONS)
-    if g.chance(0.3):
-        kw["pins"] = _pairs(g, a, b, "pins")
-    if g.chance(0.2):
-        kw["pairs"] = _pairs(g, a, b, "pairs")
-    return (a.V, a.F, b.V, b.F), kw
+    return _with_pins_and_pairs(g, a, b, kw)
 
 
 def gen_optimize_sphere_map(g):

@@ -36,7 +36,6 @@ import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
 
 drawn = {"main": 0}
-stats_job = {}  # the running job at Esc
 
 
 def clear_scene():
@@ -175,7 +174,7 @@ def wait_running(seconds):
 def press_escape():
     from paramorph import jobs, native_operator
     stats["esc"]["running_before"] = len(jobs.running())
-    job = stats_job["esc"] = jobs.running()[0] if jobs.running() else None
+    job = jobs.running()[0] if jobs.running() else None  # the one Esc cancels
     stats["esc"]["line_before"] = native_operator.status_line
     pressed = stats["esc"]["pressed"] = time.monotonic()
     simulate("ESC")
