@@ -8,6 +8,9 @@
 #include <iostream>  // Eigen/MetisSupport uses std::cerr without including it
 #include <Eigen/MetisSupport>
 #include <Eigen/OrderingMethods>
+#include <mutex>
+
+#include "common/library_locks.h"
 
 namespace paramorph {
 
@@ -27,8 +30,10 @@ class FillReducingOrdering {
   void operator()(const MatrixType& A, PermutationType& permutation) {
     if (A.rows() < kSmallestMetisOrdering)
       Eigen::AMDOrdering<StorageIndex>()(A, permutation);
-    else
+    else {
+      const std::lock_guard<std::mutex> lock(metis_lock());  // its random numbers: library_locks.h
       Eigen::MetisOrdering<StorageIndex>()(A, permutation);
+    }
   }
 };
 

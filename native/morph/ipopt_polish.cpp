@@ -1,6 +1,7 @@
 #include "morph/ipopt_polish.h"
 
 #include "common/errors.h"
+#include "common/library_locks.h"
 
 #ifdef PARAMORPH_HAVE_IPOPT
 #include <IpIpoptApplication.hpp>
@@ -158,13 +159,13 @@ bool ipopt_available() { return true; }
 IpoptPolishResult ipopt_polish(const SphereMapNlp& nlp, const MatrixX3d& start, const VectorXd& multipliers,
                                const IpoptPolishOptions& o, ProgressWindow progress) {
   // The sequential MUMPS behind Ipopt keeps global state: two runs at once
-  // (two Python threads, the GIL released) crashed the process. One at a time.
-  static std::mutex one_at_a_time;
-  const std::lock_guard<std::mutex> lock(one_at_a_time);
+  // (two Python threads, the GIL released) crashed the process. One at a
+  // time, and none beside a CHOLMOD factorisation: both reach BLAS.
+  const std::lock_guard<std::mutex> lock(blas_lock());
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");
-app->Options()->SetIntegerValue("max_iter", o.max_iterations);
+  app->Options()->SetIntegerValue("max_iter", o.max_iterations);
   app->Options()->SetNumericValue("tol", o.tol);
   app->Options()->SetStringValue("linear_solver", "mumps");
   // Measured on spot (5.9k faces), cold: the monotone barrier converges in

@@ -4,7 +4,6 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -12,7 +11,6 @@
 #include <deque>
 #include <chrono>
 #include <future>
-#include <mutex>
 #include <thread>
 #include <numeric>
 #include <unordered_map>
@@ -20,17 +18,17 @@
 #include "common/best_rotation.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
+#include "common/supernodal_cholesky.h"
 #include "mesh/self_intersections.h"
 
 namespace paramorph::morph {
 
 struct ShapeInterpolation::Factor {
   // CHOLMOD's supernodal factor: the merged mesh of a 100k-face morph has
-  // ~185k unknowns, where the simplicial one took seconds.
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-  // CHOLMOD's solve writes to its own workspace: at() is const and may be
-  // called from several threads (the binding releases the GIL), one at a time here.
-  std::mutex solving;
+  // ~185k unknowns, where the simplicial one took seconds. Its solves take
+  // the BLAS lock, so at() (const, called from several threads with the GIL
+  // released) solves one at a time.
+  SupernodalCholesky<Eigen::SparseMatrix<double>> llt;
 };
 
 namespace {
@@ -398,7 +396,9 @@ void ShapeInterpolation::factor(Eigen::SparseMatrix<double>& H, Progress* progre
   // 97k-onto-48k-face morph): it runs on a thread of its own while this one
   // reports every 20 ms, so a cancel returns at once (issue 20: Esc within
   // 0.5 s). A cancelled setup leaves the thread to finish and drop the factor
-  // and the matrix, which it owns with this object's share.
+  // and the matrix, which it owns with this object's share; it holds the BLAS
+  // lock until then, so the next factorisation waits for it rather than
+  // sharing OpenBLAS's buffers with it.
   auto factoring = std::make_shared<std::pair<std::shared_ptr<Factor>, Eigen::SparseMatrix<double>>>(
       factor_, std::move(H));
   std::promise<void> finished;
@@ -548,10 +548,7 @@ MatrixX3d ShapeInterpolation::fit(double t) const {
     }
   }
   RowsK<3> solved(unknowns, 3);
-  if (unknowns > 0) {
-    const std::lock_guard<std::mutex> lock(factor_->solving);
-    solved = factor_->llt.solve(Eigen::MatrixXd(rhs));
-  }
+  if (unknowns > 0) solved = factor_->llt.solve(Eigen::MatrixXd(rhs));
 
   MatrixX3d X = straight;
   const Index parts = Index(anchor_of_.size());

@@ -1,11 +1,11 @@
 #include "paste/base_surface.h"
 
 #include <Eigen/Geometry>
-#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
 #include "common/errors.h"
+#include "common/supernodal_cholesky.h"
 #include "mesh/cotangent_weights.h"
 
 namespace paramorph::paste {
@@ -84,7 +84,7 @@ MatrixX3d base_surface(const TriMesh& mesh, const SelectionPatch& patch) {
   // CHOLMOD's supernodal Cholesky (BLAS 3): the thin-plate matrix has two
   // rings of fill per row, and Eigen's simplicial LDLT spent 3 s, without a
   // chance to report progress, on an 80 % selection of an 82k-face mesh.
-  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver(Q);
+  const SupernodalCholesky<Sparse> solver(Q);
   PM_REQUIRE(solver.info() == Eigen::Success, ConstraintError,
              "the base surface's thin-plate system is singular (degenerate selection)");
   const Eigen::MatrixXd x = solver.solve(rhs);

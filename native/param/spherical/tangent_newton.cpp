@@ -4,11 +4,11 @@
 #include <cmath>
 #include <utility>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/supernodal_cholesky.h"
 
 namespace paramorph::spherical {
 
@@ -35,7 +35,7 @@ struct TangentNewton::Solver {
   std::vector<Index> diagonal_slot;  ///< 3 per vertex: (2i,2i), (2i+1,2i), (2i+1,2i+1)
   std::vector<Index> fixed_off_diagonal, fixed_diagonal;
   VectorXd scale, scaled;
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+  SupernodalCholesky<SparseMatrix> llt;
 };
 
 TangentNewton::TangentNewton(const MatrixX3i& F, Index vertices, const std::vector<Index>& fixed)
@@ -89,7 +89,7 @@ TangentNewton::TangentNewton(const MatrixX3i& F, Index vertices, const std::vect
   s.llt.cholmod().method[0].ordering = CHOLMOD_AMD;
   s.llt.cholmod().method[1].ordering = CHOLMOD_METIS;
   s.llt.cholmod().postorder = 1;
-  s.llt.analyzePattern(s.A);
+  s.llt.analyze(s.A);
   s.scale.resize(2 * vertices);
   s.scaled.resize(s.A.nonZeros());
 }
