@@ -30,7 +30,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d  # noqa: E402
+from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d, wait_while  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -226,10 +226,8 @@ def placed_pair():
 
 
 def keys_written():
-    source = bpy.data.objects["Small"]
-    if source.data.shape_keys is None and stats["placed"].setdefault("waits", 0) < 240:
-        stats["placed"]["waits"] += 1
-        steps.insert(0, keys_written)
+    """Waits (up to 240 s) for Morph To to write its shape keys."""
+    wait_while(steps, lambda: bpy.data.objects["Small"].data.shape_keys is None, stats["placed"], 240.0)()
 
 
 def placed_check():
@@ -260,14 +258,13 @@ def modified_invoke():
     clear_scene()
     obj = make_samples.build_octopus(name="Smoothed", subdivisions=3)
     obj.modifiers.new("Subdivision", "SUBSURF")
-    stats["modifier"] = {"invoke": sorted(in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT")), "waits": 0}
+    stats["modifier"] = {"invoke": sorted(in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT"))}
 
 
 def modified_ended():
+    """Waits (up to 120 s) for the sphere map's operator to end (its status line goes)."""
     from paramorph import native_operator
-    stats["modifier"]["waits"] += 1
-    if native_operator.status_line is not None and stats["modifier"]["waits"] < 60:
-        steps.insert(0, modified_ended)
+    wait_while(steps, lambda: native_operator.status_line is not None, stats["modifier"])()
 
 
 def modified_check():
@@ -314,15 +311,13 @@ def fin_mesh():
     bm.free()
     obj.data.update()
     result, error = refused_in_view(bpy.ops.paramorph.sphere_map, "INVOKE_DEFAULT", repair=False)
-    stats["fin"] = {"invoke": result, "error": error, "waits": 0}
+    stats["fin"] = {"invoke": result, "error": error}
 
 
 def fin_ended():
-    """The sphere map runs in its thread and reports when it ends (waits up to 30 s)."""
+    """The sphere map runs in its thread and reports when it ends (waits up to 120 s)."""
     from paramorph import native_operator
-    stats["fin"]["waits"] += 1
-    if native_operator.status_line is not None and stats["fin"]["waits"] < 60:
-        steps.insert(0, fin_ended)
+    wait_while(steps, lambda: native_operator.status_line is not None, stats["fin"])()
 
 
 def fin_check():
@@ -370,14 +365,12 @@ def paste_invoke():
     simulate("MOUSEMOVE", "NOTHING")  # the mouse over the target's middle
     # Six times the feature's size: far too large for this body.
     stats["paste"]["invoke"] = sorted(in_view(bpy.ops.paramorph.paste_feature, "INVOKE_DEFAULT", scale=6.0))
-    stats["paste"]["waits"] = 0
 
 
 def wait_placing():
+    """Waits (up to 120 s) until the tool follows the mouse."""
     from paramorph import ops_paste
-    stats["paste"]["waits"] += 1
-    if ops_paste.phase != "placing" and stats["paste"]["waits"] < 120:
-        steps.insert(0, wait_placing)
+    wait_while(steps, lambda: ops_paste.phase != "placing", stats["paste"])()
 
 
 def paste_first_header():

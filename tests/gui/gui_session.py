@@ -78,3 +78,21 @@ def run_steps(steps, report):
 
     os.makedirs(OUT, exist_ok=True)
     bpy.app.timers.register(tick, first_interval=1.0)
+
+
+def wait_while(steps, still_waiting, record, limit_s=120.0):
+    """A step that repeats (by re-inserting itself at the queue's front) while
+    still_waiting() is true, for at most limit_s seconds of wall time, and
+    writes how long it waited into record["waited_s"]. Time, not a count of
+    ticks: a loaded machine ticks the timer late and computes slowly."""
+    import time
+    started = []
+
+    def wait():
+        now = time.monotonic()
+        if not started:
+            started.append(now)
+        record["waited_s"] = round(now - started[0], 2)
+        if still_waiting() and now - started[0] < limit_s:
+            steps.insert(0, wait)
+    return wait

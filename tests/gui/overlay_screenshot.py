@@ -23,7 +23,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d  # noqa: E402
+from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d, wait_while  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -127,13 +127,11 @@ def modal_cancel():
 
 
 def wait_for_jobs(written=lambda: True, key="modal"):
-    """A step that repeats (by re-inserting itself) while a job's thread runs or
-    what it writes is not there yet, for at most 60 s: the operator writes on
-    its first timer event after the thread ends, not when the thread ends."""
+    """A step that waits while a job's thread runs or what it writes is not
+    there yet, for at most 120 s: the operator writes on its first timer event
+    after the thread ends, not when the thread ends."""
     def wait():
-        stats[key]["waits"] = stats[key].get("waits", 0) + 1
-        if (jobs.running() or not written()) and stats[key]["waits"] < 120:
-            steps.insert(0, wait)
+        wait_while(steps, lambda: jobs.running() or not written(), stats[key])()
     return wait
 
 

@@ -19,7 +19,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import run_steps, screenshot_rgb, stats, view3d  # noqa: E402
+from gui_session import run_steps, screenshot_rgb, stats, view3d, wait_while  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -88,7 +88,6 @@ def simulate(kind, value="PRESS", **keys):
 
 def modal_invoke(label):
     def invoke():
-        stats["waits"] = 0
         x, y = centre_of_region()
         simulate("MOUSEMOVE", "NOTHING", xy=(x, y))  # the mouse over the target's middle
         window, area, region = view3d()
@@ -98,11 +97,9 @@ def modal_invoke(label):
 
 
 def wait_placing():
-    """Repeats (by re-inserting itself) until the tool follows the mouse (at most 60 s)."""
+    """Waits until the tool follows the mouse (at most 120 s)."""
     from paramorph import ops_paste
-    stats["waits"] = stats.get("waits", 0) + 1
-    if ops_paste.phase != "placing" and stats["waits"] < 120:
-        steps.insert(0, wait_placing)
+    wait_while(steps, lambda: ops_paste.phase != "placing", stats)()
 
 
 def modal_drive():

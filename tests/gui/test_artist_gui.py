@@ -35,6 +35,8 @@ def test_the_add_on_as_an_artist_meets_it(tmp_path):
     modifier = stats["modifier"]
     assert modifier["invoke"] == ["RUNNING_MODAL"] and modifier["written"], modifier
     assert "Smoothed: computed on the mesh without its modifiers (Subdivision)" in modifier["warning"], modifier
+    print(f"Waited for the operators to end: sphere map with a modifier {modifier['waited_s']} s, "
+          f"kept-topology morph {stats['placed']['waited_s']} s")
     # Isometric Unwrap of a closed mesh without seams: refused at once, saying why; UVs untouched.
     unwrap = stats["unwrap"]
     assert unwrap["invoke"] == ["CANCELLED"] and unwrap["uv_unchanged"], unwrap

@@ -26,7 +26,7 @@ def run_in_window(tmp_path, script, report, simulate_events=False):
     command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", "blender"]
     command += ["--enable-event-simulate"] if simulate_events else []
     command += ["--python", os.path.join(REPO, "tests", "gui", script), "--", str(tmp_path)]
-    run = subprocess.run(command, cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
+    run = subprocess.run(command, cwd=REPO, env=env, capture_output=True, text=True, timeout=600)
     path = tmp_path / report
     assert path.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     stats = json.loads(path.read_text())
