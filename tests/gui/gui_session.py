@@ -93,6 +93,17 @@ def wait_while(steps, still_waiting, record, limit_s=120.0):
         if not started:
             started.append(now)
         record["waited_s"] = round(now - started[0], 2)
-        if still_waiting() and now - started[0] < limit_s:
+        if not still_waiting():
+            return
+        if now - started[0] < limit_s:
             steps.insert(0, wait)
+            return
+        # Gave up: what was still running, for the failure message (a hang
+        # or a slow machine), and every Python thread's stack beside the stats.
+        import faulthandler
+        from paramorph import jobs
+        record["timed_out"] = True
+        record["running"] = [(job.stage, round(job.fraction, 3)) for job in jobs.running()]
+        with open(os.path.join(OUT, "stacks.txt"), "a") as f:
+            faulthandler.dump_traceback(f, all_threads=True)
     return wait

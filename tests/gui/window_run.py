@@ -30,5 +30,8 @@ def run_in_window(tmp_path, script, report, simulate_events=False):
     path = tmp_path / report
     assert path.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     stats = json.loads(path.read_text())
+    stacks = tmp_path / "stacks.txt"
+    if stacks.exists():  # a wait gave up (gui_session.wait_while): shown with the failure
+        print("Python stacks where a wait gave up:\n" + stacks.read_text()[-6000:])
     assert "error" not in stats, stats["error"]
     return stats
