@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "mesh/tri_mesh.h"
 #include "morph/sphere_warp.h"
 #include "param/spherical/relax_sphere_map.h"
@@ -67,7 +68,7 @@ SphereFlowResult flow_sphere_map(const MatrixX3i& F, const MatrixX3d& X, const M
     const MatrixX3d next = points_at(next_t);
     for (Index j = 0; j < k; ++j) moves.row(j) = log_map(at.row(j), next.row(j));
     const SphereWarpField field(at, moves);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
     for (Index v = 0; v < n; ++v) trial.row(v) = exp_map(Y.row(v), field(Y.row(v)));
     for (const auto& [v, j] : pinned) trial.row(v) = next.row(j);
     const Index folded = first_fold(trial, F);

@@ -120,7 +120,12 @@ Registration register_surfaces(const MatrixX3d& VA, const MatrixX3i& FA, const M
           for (int a = 0; a < 3; ++a) D.row(i).segment(a * k, k) = s * n[a] * P.row(i);
           r[i] = s * n.dot(c.points.row(i));
         }
-        Eigen::MatrixXd M = D.transpose() * D;
+        // D^T D as a rank update (the lower triangle, which ldlt() reads): a
+        // general product of this size (n by 60) is split between OpenMP
+        // threads by Eigen, a parallel region per iteration, which on a busy
+        // machine doubled a small morph's time (common/parallel.h).
+        Eigen::MatrixXd M = Eigen::MatrixXd::Zero(3 * k, 3 * k);
+        M.selfadjointView<Eigen::Lower>().rankUpdate(D.transpose());
         Eigen::VectorXd rhs = D.transpose() * r;
         // Damping towards the current T: the planes leave sliding along them free.
         const double lambda = o.damping * M.trace() / double(3 * k) + 1e-12;

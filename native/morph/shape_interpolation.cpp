@@ -18,6 +18,7 @@
 #include "common/best_rotation.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "common/supernodal_cholesky.h"
 #include "mesh/self_intersections.h"
 
@@ -298,7 +299,7 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   for (int sweep = 0; sweep < kNeighbourhoodSweeps; ++sweep) {
     report(0.2 + 0.4 * double(sweep) / kNeighbourhoodSweeps);
     double largest = 0;
-#pragma omp parallel for schedule(static) reduction(max : largest)
+#pragma omp parallel for schedule(static) reduction(max : largest) if (worth_parallel(m))
     for (Index f = 0; f < m; ++f) {
       Eigen::Matrix3d sum = covariance[f];
       for (Index g : neighbours[f]) sum += covariance[g];
@@ -306,7 +307,7 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
       largest = std::max(largest, sum.cwiseAbs().maxCoeff());
     }
     if (largest > 0)
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(m))
       for (Index f = 0; f < m; ++f) next[f] /= largest;
     covariance.swap(next);
   }
@@ -326,7 +327,7 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   for (Index first = 0; first < m; first += kChunk) {
     report(0.6 + 0.15 * double(first) / double(m));
     const Index last = std::min(m, first + kChunk);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(last - first))
   for (Index f = first; f < last; ++f) {
     if (face_degenerate_[f]) continue;
     const Eigen::Matrix3d area_turn = nearest_rotation(covariance[f]);

@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 
 namespace paramorph::morph {
 
@@ -72,7 +73,7 @@ MatrixX3d warp_points(const MatrixX3d& points, const MatrixX3d& from, const Matr
       moves.row(j) = log_map(at.row(j), next.row(j));
     }
     const SphereWarpField field(at, moves);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(out.rows()))
     for (Index v = 0; v < out.rows(); ++v) out.row(v) = exp_map(out.row(v), field(out.row(v)));
     at = next;
   }

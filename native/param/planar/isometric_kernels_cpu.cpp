@@ -1,22 +1,15 @@
 // C++ backend of IsometricKernels: OpenMP over faces, then over vertices
-// (serial below kParallelFaces faces).
+// (serial on small meshes: common/parallel.h).
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "common/parallel.h"
 #include "param/planar/isometric_kernels.h"
 
 namespace paramorph::planar {
 
 namespace {
-
-/// Below this many faces the loops run on one thread: a parallel region
-/// costs more than it saves on a small patch (a paste's disc, ~1k faces, is
-/// mapped on every update), and where the cores are busy with other work a
-/// thread descheduled at a region's barrier stalled a 1.7k-face map from
-/// 14 ms to 2.5 s (measured on a loaded 2-core machine). Results do not
-/// depend on it (fixed-order sums).
-constexpr Index kParallelFaces = 8192;
 
 class CpuIsometricKernels final : public IsometricKernels {
  public:
@@ -30,7 +23,7 @@ class CpuIsometricKernels final : public IsometricKernels {
   double energy(const MatrixX2d& uv, MatrixX2d* gradient) override {
     const Index m = Index(F_.rows());
     const bool want_gradient = gradient != nullptr;
-    const bool parallel = m >= kParallelFaces;
+    const bool parallel = worth_parallel(m);
 #pragma omp parallel for schedule(static) if (parallel)
     for (Index f = 0; f < m; ++f) {
       Eigen::Vector2d g[3];
@@ -60,7 +53,7 @@ class CpuIsometricKernels final : public IsometricKernels {
   double max_feasible_step(const MatrixX2d& uv, const MatrixX2d& d) override {
     const Index m = Index(F_.rows());
     double best = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min : best) if (m >= kParallelFaces)
+#pragma omp parallel for schedule(static) reduction(min : best) if (worth_parallel(m))
     for (Index f = 0; f < m; ++f)
       best = std::min(best, face_first_inversion(uv.row(F_(f, 0)), uv.row(F_(f, 1)),
                                                  uv.row(F_(f, 2)), d.row(F_(f, 0)),

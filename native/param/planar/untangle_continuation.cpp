@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/parallel.h"
 #include "param/planar/lbfgs.h"
 #include "param/planar/untangle.h"
 
@@ -97,7 +98,7 @@ Eigen::Matrix2d shape(const IsometricFactors& ref, const MatrixX3i& F, const Mat
 DetStats det_stats(const IsometricFactors& ref, const MatrixX3i& F, const MatrixX2d& uv) {
   double lowest = std::numeric_limits<double>::infinity();
   Index folded = 0;
-#pragma omp parallel for schedule(static) reduction(min : lowest) reduction(+ : folded)
+#pragma omp parallel for schedule(static) reduction(min : lowest) reduction(+ : folded) if (worth_parallel(Index(F.rows())))
   for (Index f = 0; f < Index(F.rows()); ++f) {
     const double d = shape(ref, F, uv, f).determinant();
     lowest = std::min(lowest, d);
@@ -115,7 +116,7 @@ class RegularisedEnergy {
 
   double operator()(const MatrixX2d& uv, double eps, MatrixX2d* gradient) {
     const Index m = Index(F_.rows());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(m))
     for (Index f = 0; f < m; ++f) {
       const Eigen::Matrix2d S = shape(ref_, F_, uv, f);
       const double d = S.determinant(), c = chi(d, eps), w = ref_.area[f];

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "param/spherical/sphere_quality.h"
 
 namespace paramorph::spherical {
@@ -160,13 +161,13 @@ int centroid_relaxation(const TriMesh& mesh, MatrixX3d& X, int max_sweeps, int c
       if (flipped_faces(X, F).empty()) return sweep;
       progress.report(double(sweep) / max_sweeps, "relaxation");
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(m))
     for (Index f = 0; f < m; ++f) {
       const Eigen::Vector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
       const double area = 0.5 * (b - a).cross(c - a).norm();
       weighted.row(f) = area * (a + b + c) / 3.0;
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
     for (Index v = 0; v < n; ++v) {
       Eigen::RowVector3d s = Eigen::RowVector3d::Zero();
       for (Index k = corners.begin(v); k < corners.end(v); ++k) s += weighted.row(corners.items[k] / 3);
@@ -191,7 +192,7 @@ double mobius_center(MatrixX3d& X, const MatrixX3i& F, const VectorXd& vertex_we
     // x -> ((1 - |c|^2)(x - c) - |x - c|^2 c) / |x - c|^2.
     MatrixX3d Y(n, 3);
     const double c2 = c.squaredNorm();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
     for (Index v = 0; v < n; ++v) {
       const Eigen::RowVector3d d = X.row(v) - c;
       const double d2 = d.squaredNorm();

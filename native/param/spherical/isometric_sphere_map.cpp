@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "param/spherical/tangent_newton.h"
 
 namespace paramorph::spherical {
@@ -84,7 +85,7 @@ double isometric_sphere_energy(const IsometricSphereRest& rest, const MatrixX3i&
 
 VectorXd isometric_face_ratios(const IsometricSphereRest& rest, const MatrixX3i& F, const MatrixX3d& X) {
   VectorXd ratio(F.rows());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(F.rows()))
   for (Index f = 0; f < F.rows(); ++f) {
     const Vec3 x[3] = {corner(X, F, f, 0), corner(X, F, f, 1), corner(X, F, f, 2)};
     ratio[f] = face_energy(rest.cotangents.row(f).data(), rest.area[f], x, nullptr) / (4 * rest.area[f]);
@@ -113,7 +114,7 @@ IsometricSphereResult isometric_sphere_map(const MatrixX3d& V, const MatrixX3i& 
   // and the same map, on every run.
   VectorXd face_energies(faces);
   auto energy_of = [&](const MatrixX3d& Y) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(faces))
     for (Index f = 0; f < faces; ++f) {
       const Vec3 x[3] = {corner(Y, F, f, 0), corner(Y, F, f, 1), corner(Y, F, f, 2)};
       face_energies[f] = face_energy(rest.cotangents.row(f).data(), rest.area[f], x, nullptr);
@@ -137,7 +138,7 @@ IsometricSphereResult isometric_sphere_map(const MatrixX3d& V, const MatrixX3i& 
     // gradient, then in the corners' tangent coordinates,
     // T^T H T - (x . g) I on the diagonal blocks (the renormalisation's
     // curvature), projected positive semi-definite.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(faces))
     for (Index f = 0; f < faces; ++f) {
       const double* c = rest.cotangents.row(f).data();
       Vec3 x[3] = {corner(X, F, f, 0), corner(X, F, f, 1), corner(X, F, f, 2)};

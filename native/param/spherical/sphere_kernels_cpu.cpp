@@ -1,8 +1,9 @@
 // C++ backend of SphereKernels: OpenMP loops with the same per-vertex
-// arithmetic as kernels/sphere.cl.
+// arithmetic as kernels/sphere.cl (serial on small meshes: common/parallel.h).
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "common/parallel.h"
 #include "param/spherical/sphere_kernels.h"
 #include "param/spherical/sphere_quality.h"
 
@@ -34,7 +35,7 @@ class CpuSphereKernels final : public SphereKernels {
   void jacobi(int sweeps, double omega) override {
     const Index n = g_.num_vertices();
     for (int s = 0; s < sweeps; ++s) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
       for (Index i = 0; i < n; ++i) {
         const Eigen::Vector3d xi = x_.row(i).transpose();
         const Eigen::Vector3d t =
@@ -49,7 +50,7 @@ class CpuSphereKernels final : public SphereKernels {
   double residual_squared() override {
     const Index n = g_.num_vertices();
     VectorXd row_residual(n);  // summed in order below: the same on every run
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3d xi = x_.row(i).transpose();
       Eigen::Vector3d r = u_.row(i).transpose() - ring_sum(i, u_) / g_.degree[i];
@@ -65,7 +66,7 @@ class CpuSphereKernels final : public SphereKernels {
   void apply_projected_laplacian(const MatrixX3d& t, MatrixX3d& out) override {
     const Index n = g_.num_vertices();
     out.resize(n, 3);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3d xi = x_.row(i).transpose();
       Eigen::Vector3d r = g_.degree[i] * t.row(i).transpose() - ring_sum(i, t);

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "param/spherical/tangent_newton.h"
 
 namespace paramorph::spherical {
@@ -101,7 +102,7 @@ SphereBarrierResult sphere_map_barrier(const MatrixX3i& F, const MatrixX3d& pull
   std::vector<Vec6> face_gradient(faces);
   auto assemble = [&](const VectorXd& mu_face) {
     newton.begin(X);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(faces))
     for (Index f = 0; f < faces; ++f) {
       const double mu = mu_face[f];
       const Vec3 x[3] = {row(X, F(f, 0)), row(X, F(f, 1)), row(X, F(f, 2))};

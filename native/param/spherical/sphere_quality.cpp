@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 
 namespace paramorph::spherical {
 
@@ -15,7 +16,7 @@ double sphere_orientation(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 std::vector<Index> flipped_faces(const MatrixX3d& X, const MatrixX3i& F) {
   const Index m = Index(F.rows());
   std::vector<char> bad(m, 0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(m))
   for (Index f = 0; f < m; ++f) {
     bad[f] = sphere_orientation(X.row(F(f, 0)), X.row(F(f, 1)), X.row(F(f, 2))) <= 0.0;
   }
@@ -28,7 +29,7 @@ std::vector<Index> flipped_faces(const MatrixX3d& X, const MatrixX3i& F) {
 VectorXd face_areas(const MatrixX3d& V, const MatrixX3i& F) {
   const Index m = Index(F.rows());
   VectorXd A(m);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(m))
   for (Index f = 0; f < m; ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     A[f] = 0.5 * (b - a).cross(c - a).norm();
@@ -57,7 +58,7 @@ VectorXd area_stretch(const TriMesh& mesh, const MatrixX3d& X) {
   }
   const Csr& corners = mesh.vertex_corners();
   VectorXd out(mesh.num_vertices());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(mesh.num_vertices()))
   for (Index v = 0; v < mesh.num_vertices(); ++v) {
     double sum = 0.0;
     for (Index k = corners.begin(v); k < corners.end(v); ++k) sum += face_stretch[corners.items[k] / 3];

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "mesh/cotangent_weights.h"
 
 namespace paramorph::spherical {
@@ -46,7 +47,7 @@ SpringGraph build_spring_graph(const TriMesh& mesh, const VectorXd& edge_weights
 void SpringGraph::apply(const MatrixX3d& u, MatrixX3d& out) const {
   const Index n = num_vertices();
   out.resize(n, 3);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
   for (Index i = 0; i < n; ++i) {
     double sx = 0, sy = 0, sz = 0;
     for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {
@@ -68,7 +69,7 @@ double SpringGraph::energy(const MatrixX3d& u) const {
   // Rows in parallel, summed in order: the same energy on every run (the
   // outer loop's stopping test compares energies).
   VectorXd row_energy(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(n))
   for (Index i = 0; i < n; ++i) {
     double e = 0.0;
     for (Index k = offsets[i]; k < offsets[i + 1]; ++k) {

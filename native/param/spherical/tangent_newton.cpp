@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "common/supernodal_cholesky.h"
 
 namespace paramorph::spherical {
@@ -98,7 +99,7 @@ TangentNewton::~TangentNewton() = default;
 
 void TangentNewton::begin(const MatrixX3d& X) {
   const Index vertices = Index(fixed_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (worth_parallel(vertices))
   for (Index v = 0; v < vertices; ++v) bases_[std::size_t(v)] = tangent_basis(X.row(v).transpose());
   std::fill(solver_->A.valuePtr(), solver_->A.valuePtr() + solver_->A.nonZeros(), 0.0);
   gradient_.setZero();
