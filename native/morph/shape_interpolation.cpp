@@ -321,31 +321,32 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   own_axes_.assign(m, Eigen::Matrix3d::Identity());
   own_log_stretch_.assign(m, Eigen::Vector3d::Zero());
   own_straight_.assign(m, 0);
-  // Three small SVDs per face (1.5 s on 370k faces): in parallel, in chunks
-  // with a report between them (no report inside a parallel region).
+  // Three small SVDs per face (1.5 s on 370k faces): in parallel (run once,
+  // heavy items: common/parallel.h), in chunks with a report between them
+  // (no report inside a parallel region).
   constexpr Index kChunk = 16384;
   for (Index first = 0; first < m; first += kChunk) {
     report(0.6 + 0.15 * double(first) / double(m));
     const Index last = std::min(m, first + kChunk);
-#pragma omp parallel for schedule(static) if (worth_parallel(last - first))
-  for (Index f = first; f < last; ++f) {
-    if (face_degenerate_[f]) continue;
-    const Eigen::Matrix3d area_turn = nearest_rotation(covariance[f]);
-    area_log_[f] = log_of(area_turn);
-    area_rest_[f] = area_turn.transpose() * gradient[f];
-    const Polar rest = polar(area_rest_[f]);
-    if (rest.positive) {
-      rest_turn_[f] = rest.turn;
-      rest_axes_[f] = rest.axes;
-      rest_log_stretch_[f] = rest.log_stretch;
-      rest_straight_[f] = 0;
+#pragma omp parallel for schedule(static)
+    for (Index f = first; f < last; ++f) {
+      if (face_degenerate_[f]) continue;
+      const Eigen::Matrix3d area_turn = nearest_rotation(covariance[f]);
+      area_log_[f] = log_of(area_turn);
+      area_rest_[f] = area_turn.transpose() * gradient[f];
+      const Polar rest = polar(area_rest_[f]);
+      if (rest.positive) {
+        rest_turn_[f] = rest.turn;
+        rest_axes_[f] = rest.axes;
+        rest_log_stretch_[f] = rest.log_stretch;
+        rest_straight_[f] = 0;
+      }
+      const Polar own = polar(gradient[f]);
+      own_log_[f] = log_of(own.turn);
+      own_log_stretch_[f] = own.log_stretch;
+      own_straight_[f] = !own.positive;  // turned over between the ends: S mixed straight
+      own_axes_[f] = own.positive ? own.axes : own.stretch;
     }
-    const Polar own = polar(gradient[f]);
-    own_log_[f] = log_of(own.turn);
-    own_log_stretch_[f] = own.log_stretch;
-    own_straight_[f] = !own.positive;  // turned over between the ends: S mixed straight
-    own_axes_[f] = own.positive ? own.axes : own.stretch;
-  }
   }
   report(0.75);
   make_logs_consistent(area_log_, neighbours, face_degenerate_, area0);

@@ -30,7 +30,8 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import keep_for_readme, run_steps, screenshot_rgb, stats, view3d, wait_while  # noqa: E402
+from gui_session import (centre_of_region, keep_for_readme, run_steps, screenshot_rgb, simulate, stats,  # noqa: E402
+                         view3d, wait_while)
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -57,12 +58,6 @@ def refused_in_view(operator, *args, **kwargs):
         return sorted(in_view(operator, *args, **kwargs)), ""
     except RuntimeError as error:
         return ["CANCELLED"], str(error)
-
-
-def simulate(kind, value="PRESS", xy=None, **keys):
-    window, area, region = view3d()
-    x, y = xy if xy is not None else (region.x + region.width // 2, region.y + region.height // 2)
-    window.event_simulate(type=kind, value=value, x=x, y=y, **keys)
 
 
 def reports():
@@ -390,7 +385,7 @@ def paste_after_grow():
     target = bpy.data.objects["CurvedTarget"]
     stats["paste"]["after_grow"] = {"phase": ops_paste.phase, "header": ops_paste.header_line,
                                     "object_scale": list(target.scale)}
-    x, y = view3d()[2].x + view3d()[2].width // 2, view3d()[2].y + view3d()[2].height // 2
+    x, y = centre_of_region()
     simulate("MOUSEMOVE", "NOTHING", xy=(x + 25, y + 20))
 
 
@@ -400,7 +395,7 @@ def paste_to_a_sensible_size():
     for _ in range(15):
         simulate("S", shift=True)
         simulate("S", "RELEASE", shift=True)
-    x, y = view3d()[2].x + view3d()[2].width // 2, view3d()[2].y + view3d()[2].height // 2
+    x, y = centre_of_region()
     simulate("MOUSEMOVE", "NOTHING", xy=(x - 30, y + 40))
 
 

@@ -29,6 +29,19 @@ def view3d():
     return window, area, region
 
 
+def centre_of_region():
+    """Window coordinates of the middle of the largest 3D View."""
+    region = view3d()[2]
+    return region.x + region.width // 2, region.y + region.height // 2
+
+
+def simulate(kind, value="PRESS", xy=None, **keys):
+    """A simulated input event (blender --enable-event-simulate) at xy, by
+    default the middle of the 3D View."""
+    x, y = xy if xy is not None else centre_of_region()
+    view3d()[0].event_simulate(type=kind, value=value, x=x, y=y, **keys)
+
+
 def screenshot_rgb(name):
     """Screenshot of the 3D View saved as OUT/<name>.png; its pixels, (n, 3) float RGB."""
     window, area, region = view3d()

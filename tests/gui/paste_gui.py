@@ -19,7 +19,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_session import run_steps, screenshot_rgb, stats, view3d, wait_while  # noqa: E402
+from gui_session import centre_of_region, run_steps, screenshot_rgb, simulate, stats, view3d, wait_while  # noqa: E402
 
 import addon_utils  # noqa: E402
 import make_samples  # noqa: E402
@@ -73,17 +73,6 @@ def paste_exec_and_undo():
         stats["exec_done"] = mesh_digest()
         bpy.ops.ed.undo()
     stats["exec_undone"] = mesh_digest()
-
-
-def centre_of_region():
-    window, area, region = view3d()
-    return region.x + region.width // 2, region.y + region.height // 2
-
-
-def simulate(kind, value="PRESS", **keys):
-    window = view3d()[0]
-    x, y = keys.pop("xy", centre_of_region())
-    window.event_simulate(type=kind, value=value, x=x, y=y, **keys)
 
 
 def modal_invoke(label):
