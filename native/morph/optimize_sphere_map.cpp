@@ -25,6 +25,27 @@ namespace {
 /// product leave a gap ~1e-7 of #V; tests/bench/morph.py measures it against Ipopt.
 constexpr double kBarrierOnlyDecades = 8.0;
 
+/// The sphere's rows as unit vectors, whatever their length: a map given on a
+/// sphere of radius 1e200 or 1e-200 is the same map. Eigen's normalized()
+/// squares the coordinates, which overflows to a zero row at 1e200 (then a
+/// barrier on all-zero triple products failed as a ComputeError) and
+/// underflows at 1e-200; stableNorm() scales first. A row of zeros has no
+/// direction: InvalidInputError naming it.
+MatrixX3d unit_directions(const MatrixX3d& sphere) {
+  MatrixX3d unit(sphere.rows(), 3);
+  std::vector<paramorph::Index> pointless;
+  for (paramorph::Index v = 0; v < sphere.rows(); ++v) {
+    const double length = sphere.row(v).stableNorm();
+    if (length > 0 && std::isfinite(length))
+      unit.row(v) = sphere.row(v) / length;
+    else
+      pointless.push_back(v);
+  }
+  PM_REQUIRE(pointless.empty(), InvalidInputError, "sphere rows ", format_indices(pointless),
+             " are zero: each vertex needs a direction from the sphere's centre");
+  return unit;
+}
+
 }  // namespace
 
 VectorXd face_triple_products(const MatrixX3d& X, const MatrixX3i& F) {
@@ -67,7 +88,7 @@ OptimizeSphereResult optimize_sphere_map(const MatrixX3d& V, const MatrixX3i& F,
   // report the objectives in the caller's scale.
   const double weight_scale = weights.maxCoeff();
   weights /= weight_scale;
-  MatrixX3d start = sphere.rowwise().normalized();
+  MatrixX3d start = unit_directions(sphere);
   const VectorXd start_det = face_triple_products(start, F);
   // Long protrusions squeeze a conformal map's faces to triple products of
   // the order of rounding (1e-17); those count as degenerate, not folded.

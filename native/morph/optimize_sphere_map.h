@@ -86,8 +86,10 @@ struct OptimizeSphereResult {
   double seconds = 0;
 };
 
-/// V, F: a closed genus-0 mesh (checked); sphere: #V by 3 unit vectors of a
-/// fold-free map of it (e.g. sphere_map(V, F).positions; checked: raises
+/// V, F: a closed genus-0 mesh (checked); sphere: #V by 3 points of a
+/// fold-free map of it on a sphere about the origin of any radius (each row
+/// is normalised; a zero row raises InvalidInputError), e.g.
+/// sphere_map(V, F).positions; checked: raises
 /// InvalidInputError naming the folded faces; faces squeezed to a triple
 /// product within rounding of 0 are accepted and opened up to epsilon).
 /// Raises Cancelled when the progress callback asks to stop.

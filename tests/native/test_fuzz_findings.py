@@ -139,3 +139,29 @@ def test_paste_update_refuses_a_rotation_or_scale_that_is_not_a_number(bad):
         with pytest.raises(pm.InvalidInputError, match=f"{name} must be a number or None"):
             session.update(**{name: bad})
     session.update(rotation=np.float32(0.1), scale=1)  # numpy and int numbers still work
+
+
+@pytest.mark.parametrize("radius", [1e-300, 1e-200, 1.0, 1e200, 1e300], ids=repr)
+def test_optimize_sphere_map_takes_a_sphere_of_any_radius(radius):
+    # Seed 20261127: one row at 1e200 overflowed Eigen's normalized() to a
+    # zero row, and the barrier failed on it as an untyped ComputeError.
+    start = pm.sphere_map(V, F).positions
+    unit = pm.optimize_sphere_map(V, F, start, solver="barrier")
+    scaled = pm.optimize_sphere_map(V, F, start * radius, solver="barrier")
+    np.testing.assert_allclose(scaled.positions, unit.positions, atol=1e-12)
+    assert scaled.flipped == 0
+
+
+@pytest.mark.parametrize("value", [1e200, 1e-200], ids=repr)
+def test_optimize_sphere_map_refuses_a_sphere_whose_rows_disagree(value):
+    # One vertex pushed far out along an axis: its direction changes, the
+    # start folds, and the refusal says so (never a ComputeError).
+    start = pm.sphere_map(V, F).positions
+    with pytest.raises(pm.InvalidInputError, match="start map folds"):
+        pm.optimize_sphere_map(V, F, with_row(start, value), solver="barrier")
+
+
+def test_optimize_sphere_map_refuses_a_row_with_no_direction():
+    start = pm.sphere_map(V, F).positions
+    with pytest.raises(pm.InvalidInputError, match="sphere rows 3 are zero"):
+        pm.optimize_sphere_map(V, F, with_row(start, 0.0, row=3), solver="barrier")
