@@ -16,6 +16,7 @@ harness errors.
   tests/fuzz/fuzz.py --seconds 120 --seed 1          # a bounded run
   tests/fuzz/fuzz.py --only sphere_map,morph --cases 200
   tests/fuzz/fuzz.py --replay fuzz-out/findings/0003-simplify-untyped.pkl
+  tests/fuzz/fuzz.py --replay tests/fuzz/findings     # every past finding (the gate)
   tests/fuzz/fuzz.py --build-dir build-asan ...      # the sanitizer build (README)
 
 The cases depend only on (seed, index, target): a run with the same seed and
@@ -388,11 +389,11 @@ def fuzz(args):
     return 2 if harness_errors and args.strict_harness else 0
 
 
-def replay(args):
-    with open(args.replay, "rb") as f:
+def replay_one(args, path):
+    with open(path, "rb") as f:
         data = pickle.load(f)
     case = data["case"] if "case" in data else data
-    print(f"replay: {describe_case(case)}\n        notes: {'; '.join(case['notes'])}")
+    print(f"replay: {path}\n        {describe_case(case)}\n        notes: {'; '.join(case['notes'])}")
     if data.get("outcome"):
         before = data["outcome"]
         print(f"        recorded: {before['status']} {before.get('error', '')} {before.get('message', '')[:300]}")
@@ -412,7 +413,23 @@ def replay(args):
             print(outcome["stderr"][-6000:])
     print(f"replay: {outcome['status']} {outcome.get('error', '')} {outcome.get('reason', '')} {outcome.get('why', '')} "
           f"{outcome.get('message', '')[:1000]} ({outcome.get('seconds', 0):.2f} s)")
-    return 1 if outcome["status"] in FINDING_STATUSES else 0
+    return outcome["status"] in FINDING_STATUSES
+
+
+def replay(args):
+    """--replay FILE runs one case file; --replay FOLDER every *.pkl in it
+    (tests/fuzz/findings: the past findings, which the gate replays). Exit 1
+    when any is still a finding."""
+    path = Path(args.replay)
+    files = sorted(path.glob("*.pkl")) if path.is_dir() else [path]
+    if not files:
+        print(f"replay: no case files (*.pkl) in {path}", file=sys.stderr)
+        return 2
+    still = [f for f in files if replay_one(args, f)]
+    if path.is_dir():
+        print(f"replay: {len(files)} case files, {len(still)} still findings"
+              + "".join(f"\n  {f}" for f in still))
+    return 1 if still else 0
 
 
 def parse(argv=None):
@@ -423,7 +440,8 @@ def parse(argv=None):
     p.add_argument("--seed", type=int, default=None, help="seed (default: from the clock, printed)")
     p.add_argument("--out", default="fuzz-out", help="output folder (summary.json, findings/)")
     p.add_argument("--only", default="", help="comma-separated targets (see --list)")
-    p.add_argument("--replay", default=None, help="run one saved case file again, alone")
+    p.add_argument("--replay", default=None,
+                   help="run one saved case file again, alone, or every *.pkl in a folder")
     p.add_argument("--in-process", action="store_true", help="with --replay: call in this process (gdb)")
     p.add_argument("--build-dir", default=default_build_dir(),
                    help="build folder holding python/paramorph_native*.so (default $PARAMORPH_BUILD_DIR or build)")

@@ -15,6 +15,8 @@ import fuzz
 import paramorph_native as pm
 import specs
 
+HERE = fuzz.HERE
+
 
 def test_table_covers_every_public_callable():
     public = cases.public_callables(pm)
@@ -137,6 +139,30 @@ def test_findings_are_saved_and_replay(stand_in, tmp_path, capsys):
     assert path.exists() and path.with_suffix(".txt").exists()
     assert fuzz.main(["--replay", str(path), "--build-dir", str(stand_in), "--out", str(tmp_path / "r")]) == 1
     assert "replay: crash SIGSEGV" in capsys.readouterr().out
+
+
+def test_a_folder_of_case_files_replays_each_and_fails_on_any(stand_in, tmp_path, capsys):
+    folder = tmp_path / "findings"
+    fine = fuzz.save_finding(tmp_path / "a", 1, _case("fine"), {"status": "untyped"}, "fuzz.py")
+    crash = fuzz.save_finding(tmp_path / "b", 1, _case("crashes"), {"status": "crash"}, "fuzz.py")
+    folder.mkdir()
+    (folder / "1-fine.pkl").write_bytes(fine.read_bytes())
+    args = ["--replay", str(folder), "--build-dir", str(stand_in), "--out", str(tmp_path / "r")]
+    assert fuzz.main(args) == 0
+    assert "1 case files, 0 still findings" in capsys.readouterr().out
+    (folder / "2-crash.pkl").write_bytes(crash.read_bytes())
+    assert fuzz.main(args) == 1
+    assert "2 case files, 1 still findings" in capsys.readouterr().out
+    assert fuzz.main(["--replay", str(tmp_path / "r"), "--build-dir", str(stand_in)]) == 2  # no case files
+
+
+def test_the_committed_findings_are_case_files():
+    files = sorted((HERE / "findings").glob("*.pkl"))
+    assert files, "tests/fuzz/findings holds the past findings the gate replays"
+    for path in files:
+        with open(path, "rb") as f:
+            data = pickle.load(f)
+        assert data["case"]["target"] in cases.TABLE, path
 
 
 def test_a_short_run_of_validate_has_no_findings(tmp_path):
