@@ -60,6 +60,10 @@ class ProgressWindow {
     last_ = fraction;
     parent_->report(lo_ + (hi_ - lo_) * fraction, stage);
   }
+  /// The part [a, b] of this window (0 <= a <= b <= 1), for a nested stage.
+  ProgressWindow part(double a, double b) const {
+    return ProgressWindow(parent_, lo_ + (hi_ - lo_) * a, lo_ + (hi_ - lo_) * b);
+  }
 
  private:
   Progress* parent_;
