@@ -66,7 +66,9 @@ Segmentation segment_extremities(const MatrixX3d& V, const MatrixX3i& F,
                "sphere must be a finite (", V.rows(), ", 3) array, one point per vertex");
   } else {
     // sphere_map validates (closed, genus 0, ...) and raises the MeshError.
-    sphere = spherical::sphere_map(V, F, {}, progress).positions;
+    spherical::SphereMapOptions conformal;
+    conformal.keep_squeezed_start = true;  // its thresholds were measured on that map
+    sphere = spherical::sphere_map(V, F, conformal, progress).positions;
   }
   const TriMesh mesh(V, F);
   return grow_stretch_regions(mesh, spherical::area_stretch(mesh, sphere), o.threshold,

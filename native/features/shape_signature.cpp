@@ -16,14 +16,16 @@ namespace {
 
 /// Runs the sphere map inside [0, hi] of the caller's progress.
 MatrixX3d conformal_sphere(const MatrixX3d& V, const MatrixX3i& F, Progress* progress, double hi) {
-  if (!progress) return spherical::sphere_map(V, F, {}, nullptr).positions;
+  spherical::SphereMapOptions conformal;
+  conformal.keep_squeezed_start = true;  // the signature's histograms were measured on that map
+  if (!progress) return spherical::sphere_map(V, F, conformal, nullptr).positions;
   Progress inner(
       [progress, hi](double fraction, const std::string& stage) {
         progress->report(hi * fraction, "sphere map: " + stage);  // throws Cancelled itself
         return true;
       },
       0.0);
-  return spherical::sphere_map(V, F, {}, &inner).positions;
+  return spherical::sphere_map(V, F, conformal, &inner).positions;
 }
 
 /// Checks a histogram for signature_distance and returns its cumulative sums, normalised.

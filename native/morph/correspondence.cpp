@@ -98,7 +98,9 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   try {
     features::ExtremityOptions extremity = o.extremity;
     extremity.sphere = run_stage("extremities", 0.7, 0.8, progress, [&](Progress* p) {
-      return spherical::sphere_map(side.V, side.F, {}, p).positions;
+      spherical::SphereMapOptions conformal;
+      conformal.keep_squeezed_start = true;  // segment_extremities' own map
+      return spherical::sphere_map(side.V, side.F, conformal, p).positions;
     });
     side.extremities = run_stage("extremities", 0.8, 0.88, progress, [&](Progress* p) {
       return features::segment_extremities(side.V, side.F, extremity, p);

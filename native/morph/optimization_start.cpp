@@ -7,8 +7,11 @@
 namespace paramorph::morph {
 
 MatrixX3d optimization_start(const MatrixX3d& V, const MatrixX3i& F, Progress* progress) {
-  MatrixX3d conformal =
-      spherical::sphere_map(V, F, {}, progress).positions;
+  // The conformal map as the thesis computes it, squeezed limbs and all:
+  // then the relaxed projection replaces it (see the header).
+  spherical::SphereMapOptions squeezed;
+  squeezed.keep_squeezed_start = true;
+  MatrixX3d conformal = spherical::sphere_map(V, F, squeezed, progress).positions;
   const VectorXd det = face_triple_products(conformal.rowwise().normalized(), F);
   if (det.minCoeff() >= kSqueezedShare * det.mean()) return conformal;
   spherical::SphereMapOptions relaxation;

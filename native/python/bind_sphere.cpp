@@ -4,6 +4,8 @@
 
 #include "param/spherical/balanced_sphere_map.h"
 #include "param/spherical/isometric_sphere_map.h"
+#include "param/spherical/progressive_sphere_map.h"
+#include "mesh/validate.h"
 #include "param/spherical/sphere_map.h"
 #include "python/arrays.h"
 #include "python/bindings.h"
@@ -48,31 +50,75 @@ void def_balanced_sphere_map(py::module_& m) {
   using spherical::BalancedSphereResult;
   py::class_<BalancedSphereResult>(m, "BalancedSphereMap", "Result of balanced_sphere_map().")
       .def_property_readonly("positions", [](const BalancedSphereResult& r) { return to_numpy(r.positions); })
-      .def_readonly("level_faces", &BalancedSphereResult::level_faces)
+      .def_readonly("levels", &BalancedSphereResult::levels)
       .def_readonly("steps", &BalancedSphereResult::steps)
+      .def_readonly("start_energy", &BalancedSphereResult::start_energy)
       .def_readonly("energy", &BalancedSphereResult::energy);
   m.def(
       "balanced_sphere_map",
-      [](const py::object& V, const py::object& F, Index coarsest_faces, double level_ratio, int max_steps,
+      [](const py::object& V, const py::object& F, double level_ratio, int max_steps, double polish_face_steps,
          py::object progress) {
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
         spherical::BalancedSphereOptions o;
-        o.coarsest_faces = coarsest_faces;
-        o.level_ratio = level_ratio;
+        o.progressive.level_ratio = level_ratio;
         o.isometric.max_steps = max_steps;
+        o.polish_face_steps = polish_face_steps;
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return spherical::balanced_sphere_map(v, f, o, bridge.get()); });
       },
-      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("coarsest_faces") = 600, py::arg("level_ratio") = 8.0,
-      py::arg("max_steps") = 40, py::arg("progress") = py::none(),
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("level_ratio") = 2.0, py::arg("max_steps") = 100,
+      py::arg("polish_face_steps") = 300000.0, py::arg("progress") = py::none(),
       R"doc(Fold-free sphere map giving every part a share of the sphere close to its
-share of the surface: coarse to fine, the isometric sphere map of each level
-started from the coarser level's.)doc");
+share of the surface: the progressive embedding (fold-free by construction,
+relaxed level by level; level_ratio: vertices of a level over the one before),
+then at most min(max_steps, polish_face_steps / faces) Newton steps on the
+isometric energy of the whole model.)doc");
+}
+
+void def_progressive_sphere_map(py::module_& m) {
+  using spherical::ProgressiveSphereResult;
+  py::class_<ProgressiveSphereResult>(m, "ProgressiveSphereMap", "Result of progressive_sphere_map().")
+      .def_property_readonly("positions", [](const ProgressiveSphereResult& r) { return to_numpy(r.positions); })
+      .def_readonly("levels", &ProgressiveSphereResult::levels)
+      .def_readonly("vertex_steps", &ProgressiveSphereResult::vertex_steps)
+      .def_readonly("geometric_refusals", &ProgressiveSphereResult::geometric_refusals)
+      .def_readonly("min_triple", &ProgressiveSphereResult::min_triple)
+      .def_readonly("collapse_seconds", &ProgressiveSphereResult::collapse_seconds)
+      .def_readonly("embed_seconds", &ProgressiveSphereResult::embed_seconds);
+  m.def(
+      "progressive_sphere_map",
+      [](const py::object& V, const py::object& F, double level_ratio, double level_work, int min_sweeps,
+         int max_sweeps, int insert_steps, py::object progress) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        spherical::ProgressiveSphereOptions o;
+        o.level_ratio = level_ratio;
+        o.level_work = level_work;
+        o.min_sweeps = min_sweeps;
+        o.max_sweeps = max_sweeps;
+        o.insert_steps = insert_steps;
+        PythonProgress bridge(std::move(progress));
+        return run_without_gil(bridge, [&] {
+          validate_arrays(v, f);
+          const TriMesh mesh(v, f);
+          require_closed_genus0(validate(mesh));
+          return spherical::progressive_sphere_map(mesh, o, ProgressWindow(bridge.get()));
+        });
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("level_ratio") = 2.0, py::arg("level_work") = 40000.0,
+      py::arg("min_sweeps") = 2, py::arg("max_sweeps") = 60, py::arg("insert_steps") = 4,
+      py::arg("progress") = py::none(),
+      R"doc(Fold-free sphere map by construction (Praun & Hoppe 2003): the mesh
+collapsed to a tetrahedron, then its vertices put back one at a time, each
+inside its ring, with local isometric relaxation level by level (sweeps per
+level: level_work / vertices, within [min_sweeps, max_sweeps]; level_ratio:
+vertices of a level over those of the one before).)doc");
 }
 
 void bind_sphere(py::module_& m) {
   def_isometric_sphere_map(m);
+  def_progressive_sphere_map(m);
   def_balanced_sphere_map(m);
   py::class_<SphereMapResult>(m, "SphereMap",
                               "Result of sphere_map(): unit-sphere positions and solver statistics.")
@@ -93,6 +139,13 @@ void bind_sphere(py::module_& m) {
                     "\"converged\", \"max_outer_iterations\", \"fold\", \"energy\" or \"inner_stalled\"\n"
                     "(the last solve did not reach tol: Jacobi on a mesh it does not converge on)")
       .def_readonly("relaxation_sweeps", &SphereMapResult::relaxation_sweeps)
+      .def_readonly("initial_map", &SphereMapResult::initial_map,
+                    "the start used: \"stereographic\" (Tutte), \"progressive\" (fold-free by construction) or "
+                    "\"relaxation\"")
+      .def_readonly("squeezed_start", &SphereMapResult::squeezed_start,
+                    "faces of the Tutte start with triple products within rounding of 0 (<= 1e-13)")
+      .def_readonly("partial_steps", &SphereMapResult::partial_steps,
+                    "outer steps cut short so that no face folds or reaches rounding")
       .def_property_readonly("area_stretch",
                              [](const SphereMapResult& r) { return to_numpy(r.area_stretch); },
                              "(n,) area stretch factor per vertex (thesis Def. 3.1)")
@@ -147,13 +200,18 @@ void bind_sphere(py::module_& m) {
 V: (n, 3) float64 or float32 vertex positions. F: (m, 3) int32 or int64 triangles,
 counter-clockwise seen from outside.
 weights: "conformal" (cotangent, angles clamped to [5°, 85°]) or "barycentric".
-tol: relative residual each tangent-plane saddle-point solve must reach.
+tol: relative residual each tangent-plane saddle-point solve must reach (at most
+1e-4 after a progressive start, whose steps are cut short where limbs squeeze).
 max_iterations: inner iterations allowed per saddle-point solve.
 solver: "auto" (= "pcg"), "pcg", "cholesky" or "jacobi" (thesis Algorithm 3).
 backend: "auto" (OpenCL when a device builds the kernels, else C++), "opencl", "cpu".
 progress: callable(fraction, stage) -> bool; returning False raises Cancelled.
 max_outer_iterations, outer_tol: outer loop limits (stops when the relative energy
-decrease drops below outer_tol). init: "auto"/"stereographic" or "relaxation".
+decrease drops below outer_tol; a step that would fold a face or squeeze one to
+rounding is cut short). init: "auto" (the Tutte start where no face of it is within
+rounding of 0, else the progressive one: never fails), "stereographic" (Tutte,
+repaired by relaxation), "progressive" (built fold-free coarse to fine) or
+"relaxation" (the thesis' radial projection).
 check_every, omega: Jacobi residual-test period and damping.
 Raises NotClosedError, NotGenusZeroError, DisconnectedError, NonManifoldError,
 DegenerateFaceError, InvalidInputError (all MeshError), Cancelled, ComputeError.)doc");

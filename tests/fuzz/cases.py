@@ -38,7 +38,7 @@ KNOWN_FINDINGS = ()  # (function, error type, message regex, why): none open
 
 # Classes the module returns but that Python cannot construct (no __init__):
 # their methods are still fuzzed, through entries "Class.method" below.
-RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "CorrespondenceCandidate",
+RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "ProgressiveSphereMap", "CorrespondenceCandidate",
                 "ExtremityTips", "Feature", "FeatureMatch", "FeaturePoints",
                 "IsometricSphereMap", "MapDistortion", "MergedTopology", "MeshReport", "Morph",
                 "MorphCorrespondence", "OptimizedSphereMap", "OverlayStats", "PlanarMap",
@@ -419,7 +419,8 @@ def gen_sphere_map(g):
         "weights": ("enum", ["conformal", "barycentric"]), "tol": ("float", 1e-12, 1e-2),
         "max_iterations": ("int", 1, 5000), "solver": ("enum", ["auto", "pcg", "cholesky", "jacobi"]),
         "backend": BACKEND, "progress": PROGRESS, "max_outer_iterations": ("int", 0, 8),
-        "outer_tol": ("float", 1e-8, 1e-1), "init": ("enum", ["auto", "stereographic", "relaxation"]),
+        "outer_tol": ("float", 1e-8, 1e-1),
+        "init": ("enum", ["auto", "stereographic", "relaxation", "progressive"]),
         "check_every": ("int", 1, 100), "omega": ("float", 0.1, 1.5), "reorder": ("bool",)})
 
 
@@ -660,8 +661,15 @@ def gen_map_through_proxy(g):
 
 def gen_balanced_sphere_map(g):
     m = g.mesh("closed")
-    return (m.V, m.F), g.options({"coarsest_faces": ("int", 4, 1000), "level_ratio": ("float", 1.1, 16.0),
-                                  "max_steps": ("int", 0, 60), "progress": PROGRESS})
+    return (m.V, m.F), g.options({"level_ratio": ("float", 1.1, 16.0), "max_steps": ("int", 0, 60),
+                                  "polish_face_steps": ("float", 0.0, 1e6), "progress": PROGRESS})
+
+
+def gen_progressive_sphere_map(g):
+    m = g.mesh("closed")
+    return (m.V, m.F), g.options({"level_ratio": ("float", 1.01, 16.0), "level_work": ("float", 0.0, 1e6),
+                                  "min_sweeps": ("int", 0, 10), "max_sweeps": ("int", 0, 100),
+                                  "insert_steps": ("int", 0, 10), "progress": PROGRESS})
 
 
 def gen_isometric_sphere_map(g):
@@ -941,6 +949,7 @@ TABLE = {
                                  "orient_outward": ("bool",), "keep_largest_component": ("bool",),
                                  "progress": PROGRESS}),
     "require_closed_genus0": _mesh_only("any", {"relative_area_tolerance": ("float", 1e-16, 1e-6)}),
+    "progressive_sphere_map": gen_progressive_sphere_map,
     "sample_feature": gen_sample_feature,
     "segment_extremities": gen_segment_extremities,
     "self_intersections": gen_self_intersections,

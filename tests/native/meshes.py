@@ -737,3 +737,58 @@ def cartoon_head(subdivisions=5, jitter=0.35, noise=0.0, seed=5):
     edge = np.linalg.norm(V[F[:, 0]] - V[F[:, 1]], axis=1).mean()
     V += (noise * edge * rng.normal(size=len(V)))[:, None] * P
     return V * np.array([0.9, 1.0, 1.1]), F
+
+
+def star(arms=8, aspect=20.0, subdivisions=4, seed=1):
+    """A ball with `arms` thin arms, each `aspect` times as long as it is
+    wide (tentacle_sphere's fingers): the long-limbed characters whose
+    conformal sphere map shrinks the arms geometrically to rounding (issue 28)."""
+    cut_angle = 0.2 if arms <= 12 else 0.15
+    width = 2 * 0.8 * np.sin(cut_angle)
+    return tentacle_sphere(subdivisions, tentacles=arms, length=aspect * width, seed=seed, cut_angle=cut_angle)
+
+
+def coiled_tube(turns=3.0, radius=0.12, coil_radius=1.0, pitch=0.45, around=12):
+    """A closed tube coiled along a helix with rounded ends (a snake, a
+    tail, a telephone cord): about turns * 2 pi * coil_radius / (2 radius)
+    times as long as it is wide (78 by default), its ends near each other in
+    space and far apart on the surface."""
+    step = 2 * np.pi * radius / around  # rings about as far apart as the points around
+    length = turns * 2 * np.pi * np.hypot(coil_radius, pitch / (2 * np.pi))
+    theta = np.linspace(0.0, 2 * np.pi * turns, int(np.ceil(length / step)) + 1)
+    c = np.stack([coil_radius * np.cos(theta), coil_radius * np.sin(theta), pitch * theta / (2 * np.pi)], 1)
+    tangent = np.stack([-coil_radius * np.sin(theta), coil_radius * np.cos(theta),
+                        np.full_like(theta, pitch / (2 * np.pi))], 1)
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    normal = np.stack([-np.cos(theta), -np.sin(theta), np.zeros_like(theta)], 1)  # towards the axis
+    binormal = np.cross(tangent, normal)
+    az = 2 * np.pi * np.arange(around) / around
+    V, F, rings = [], [], []
+    # A rounded cap at each end: rings shrinking on a quarter circle, then an apex.
+    cap = 4
+    def ring_at(center, t, n, b, r):
+        rings.append(np.arange(len(V), len(V) + around))
+        V.extend(center + r * (np.cos(az)[:, None] * n + np.sin(az)[:, None] * b))
+    for k in range(cap, 0, -1):
+        a = 0.5 * np.pi * k / (cap + 1)
+        ring_at(c[0] - radius * np.sin(a) * tangent[0], tangent[0], normal[0], binormal[0], radius * np.cos(a))
+    for i in range(len(theta)):
+        ring_at(c[i], tangent[i], normal[i], binormal[i], radius)
+    for k in range(1, cap + 1):
+        a = 0.5 * np.pi * k / (cap + 1)
+        ring_at(c[-1] + radius * np.sin(a) * tangent[-1], tangent[-1], normal[-1], binormal[-1], radius * np.cos(a))
+    for lower, upper in zip(rings[:-1], rings[1:]):
+        for i in range(around):
+            j = (i + 1) % around
+            F += [[lower[i], lower[j], upper[j]], [lower[i], upper[j], upper[i]]]
+    start = len(V)
+    V.append(c[0] - radius * tangent[0])
+    end = len(V)
+    V.append(c[-1] + radius * tangent[-1])
+    first, last = rings[0], rings[-1]
+    F += [[start, first[(i + 1) % around], first[i]] for i in range(around)]
+    F += [[end, last[i], last[(i + 1) % around]] for i in range(around)]
+    V, F = np.asarray(V, np.float64), np.asarray(F, np.int64)
+    if signed_volume(V, F) < 0:
+        F = F[:, ::-1]
+    return V, F.astype(np.int32)

@@ -64,12 +64,13 @@ def test_errors_and_cancel():
 
 
 def test_faces_squeezed_to_rounding_by_the_conformal_map_are_opened():
-    # Long tentacles: the conformal map squeezes their tips to triple
-    # products of about -1e-17 (rounding); the barrier opens every face to
+    # Long tentacles: the conformal map from the Tutte start squeezes their
+    # tips to triple products of about -1e-17 (rounding; init="auto" builds
+    # the progressive start there instead); the barrier opens every face to
     # above epsilon before its path, and the result keeps them there (Ipopt's
     # polish is kept only if it does too).
     V, F = meshes.tentacle_sphere(2, tentacles=4)
-    start = pm.sphere_map(V, F).positions
+    start = pm.sphere_map(V, F, init="stereographic").positions
     assert triple_products(start, F).min() <= 0  # the case this test is about
     r = pm.optimize_sphere_map(V, F, start)
     assert r.barrier_steps > 0
@@ -79,12 +80,13 @@ def test_faces_squeezed_to_rounding_by_the_conformal_map_are_opened():
 
 def test_the_relaxed_radial_start_ends_nearer_the_targets_than_the_conformal_one():
     # The thesis' start (4.3.2), the radial projection relaxed until no face
-    # folds, is what morph optimizes from: the conformal map squeezes the
-    # tentacles, and opening them costs objective (measured on 4 and 6
-    # tentacles at 0.9k-4.8k faces: 1.0-4.3 higher from the relaxed start).
+    # folds, is what morph optimizes from: the conformal map (from the Tutte
+    # start, as the thesis computes it) squeezes the tentacles, and opening
+    # them costs objective (measured on 4 and 6 tentacles at 0.9k-4.8k
+    # faces: 1.0-4.3 higher from the relaxed start).
     V, F = meshes.tentacle_sphere(2, tentacles=4)
     relaxed = pm.sphere_map(V, F, init="relaxation", max_outer_iterations=0).positions
-    conformal = pm.sphere_map(V, F).positions
+    conformal = pm.sphere_map(V, F, init="stereographic").positions
     assert triple_products(relaxed, F).min() > 0
     from_relaxed = pm.optimize_sphere_map(V, F, relaxed)
     from_conformal = pm.optimize_sphere_map(V, F, conformal)

@@ -42,7 +42,10 @@ def test_every_closed_family_maps_fold_free(name, weights):
     assert folded_faces(X, F).size == 0, f"{name}: folded faces {folded_faces(X, F)[:10]}"
     assert result.flipped == 0
     assert result.outer_iterations >= 1, f"{name}: stopped before any step ({result.stop_reason})"
-    assert result.residual <= 1e-7, f"{name}: residual {result.residual}"
+    # After the progressive start (tentacles) the solves stop at 1e-4: the
+    # steps are cut short where limbs would squeeze.
+    tol = 1e-4 if result.initial_map == "progressive" else 1e-7
+    assert result.residual <= tol, f"{name}: residual {result.residual}"
     history = np.asarray(result.energy_history)
     assert not result.energy_increased
     assert np.all(np.diff(history) <= 1e-12 * history[:-1]), f"{name}: energy rose {history}"
@@ -220,12 +223,17 @@ def test_gil_is_released_while_solving():
 
 
 def test_coarse_limbs_whose_cotangent_start_folds_still_map_fold_free():
-    # The cotangent-weight Tutte start of this mesh keeps folds through every
-    # relaxation sweep; sphere_map then starts from uniform weights instead.
+    # The cotangent-weight Tutte start of this mesh folds. auto builds the
+    # progressive start instead; "stereographic" keeps the Tutte start and
+    # repairs it (relaxation, then uniform weights).
     V, F = meshes.coarse_octopus()
     result = pm.sphere_map(V, F, weights="conformal")
-    assert result.flipped == 0
-    assert result.relaxation_sweeps > 0  # the cotangent start did fold
+    assert result.flipped == 0 and result.initial_map == "progressive"
+    assert result.squeezed_start > 0  # the cotangent start did fold
+    assert result.relaxation_sweeps == 0
+    repaired = pm.sphere_map(V, F, weights="conformal", init="stereographic")
+    assert repaired.flipped == 0 and repaired.initial_map == "stereographic"
+    assert repaired.relaxation_sweeps > 0
 
 
 def _bipyramid(n, height=1.0):

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "common/errors.h"
 #include "compute/select_backend.h"
@@ -9,6 +10,7 @@
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
 #include "param/spherical/initial_map.h"
+#include "param/spherical/progressive_sphere_map.h"
 #include "param/spherical/sphere_kernels.h"
 #include "param/spherical/sphere_quality.h"
 
@@ -18,7 +20,8 @@ InitialMap parse_initial_map(const std::string& name) {
   if (name == "auto") return InitialMap::Auto;
   if (name == "stereographic") return InitialMap::Stereographic;
   if (name == "relaxation") return InitialMap::Relaxation;
-  throw InvalidInputError("init must be \"auto\", \"stereographic\" or \"relaxation\", got \"" +
+  if (name == "progressive") return InitialMap::Progressive;
+  throw InvalidInputError("init must be \"auto\", \"stereographic\", \"relaxation\" or \"progressive\", got \"" +
                           name + "\"");
 }
 
@@ -39,6 +42,31 @@ class StageClock {
 };
 
 void normalize_rows(MatrixX3d& X) { X.rowwise().normalize(); }
+
+/// Triple products at or below this are within rounding of 0 (unit
+/// vectors: about 1e-16 absolute error), the project's threshold
+/// (kTripleRoundoff, sphere_map_barrier's kRoundoff).
+constexpr double kSqueezedTriple = 1e-13;
+/// Under init auto, the thesis' relaxation repairs a folded start for at
+/// most this many sweeps x faces (20,000 sweeps up to 5k faces, 1,000 at
+/// 100k: about a second) before the progressive start takes over.
+constexpr double kRepairFaceSweeps = 1e8;
+/// Partial outer steps keep every face this far clear.
+constexpr double kClearTriple = 1e-12;
+
+double min_triple(const MatrixX3d& X, const MatrixX3i& F) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (Index f = 0; f < F.rows(); ++f)
+    smallest = std::min(smallest, X.row(F(f, 0)).dot(X.row(F(f, 1)).cross(X.row(F(f, 2)))));
+  return smallest;
+}
+
+Index squeezed_faces(const MatrixX3d& X, const MatrixX3i& F) {
+  Index count = 0;
+  for (Index f = 0; f < F.rows(); ++f)
+    count += X.row(F(f, 0)).dot(X.row(F(f, 1)).cross(X.row(F(f, 2)))) <= kSqueezedTriple;
+  return count;
+}
 
 }  // namespace
 
@@ -85,45 +113,70 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   clock.mark("setup");
   if (progress) progress->report(0.05, "initial map");
 
-  // Fold-free start.
-  // One factorisation serves the Tutte start and the PCG preconditioner.
+  // Fold-free start. One factorisation serves the Tutte start and the PCG
+  // preconditioner.
   std::shared_ptr<const PuncturedLaplacian> laplacian;
-  if (options.init != InitialMap::Relaxation || options.solver == InnerSolver::Pcg)
-    laplacian = factor_punctured_laplacian(mesh, graph);
+  const bool tutte = options.init == InitialMap::Auto || options.init == InitialMap::Stereographic;
+  if (tutte || options.solver == InnerSolver::Pcg) laplacian = factor_punctured_laplacian(mesh, graph);
   clock.mark("factor");
   if (progress) progress->report(0.05, "initial map");
   MatrixX3d X;
-  if (options.init == InitialMap::Relaxation)
-    X = radial_projection(mesh);
-  else
+  bool progressive = options.init == InitialMap::Progressive;
+  if (tutte) {
     X = stereographic_tutte_map(mesh, graph, *laplacian);
-  if (kernels->count_flipped(X) > 0)
-    result.relaxation_sweeps =
-        centroid_relaxation(mesh, X, options.max_relaxation_sweeps, 10,
-                            ProgressWindow(progress, 0.05, 0.1));
-  if (kernels->count_flipped(X) > 0 && options.weights != Weights::Barycentric &&
-      options.init != InitialMap::Relaxation) {
-    // Negative cotangent weights (long thin triangles, e.g. coarse limbs) can
-    // fold the Tutte start beyond repair; uniform weights cannot fold it in
-    // the plane (Tutte's theorem), so start from those instead.
-    const SpringGraph uniform = build_spring_graph(mesh, edge_weights(mesh, Weights::Barycentric));
-    X = stereographic_tutte_map(mesh, uniform, *factor_punctured_laplacian(mesh, uniform));
-    if (kernels->count_flipped(X) > 0)
-      result.relaxation_sweeps +=
-          centroid_relaxation(mesh, X, options.max_relaxation_sweeps, 10,
-                              ProgressWindow(progress, 0.05, 0.1));
+    result.squeezed_start = squeezed_faces(X, mesh.F());
+    // The Tutte start is fold-free only in exact arithmetic: long limbs
+    // shrink geometrically to rounding (20% of a cat's faces at 1e-18), and
+    // a face turned over by rounding cannot be relaxed back out in time (a
+    // dancer: 295 faces after 40,000 sweeps). auto then builds the start
+    // that is valid by construction.
+    progressive = options.init == InitialMap::Auto && !options.keep_squeezed_start && result.squeezed_start > 0;
   }
-  const Index start_folds = kernels->count_flipped(X);
-  PM_REQUIRE(start_folds == 0, ComputeError, "could not build a fold-free start: ", start_folds,
-             " faces still folded after ", result.relaxation_sweeps, " relaxation sweeps");
-  if (progress) progress->report(0.09, "initial map");
+  if (options.init == InitialMap::Relaxation) X = radial_projection(mesh);
+  if (!progressive && kernels->count_flipped(X) > 0) {
+    // The thesis' repair: centroid relaxation, then (cotangent weights can
+    // fold the Tutte start beyond repair; uniform ones cannot, in the plane)
+    // a start from uniform weights. Under auto it gets a bounded number of
+    // sweeps (sweeps x faces; a 84k-face elephant spent 13-17 s here), then
+    // the progressive start takes over.
+    const bool automatic = options.init == InitialMap::Auto;
+    const int sweeps = automatic ? int(std::min<double>(options.max_relaxation_sweeps,
+                                                        kRepairFaceSweeps / double(mesh.num_faces())))
+                                 : options.max_relaxation_sweeps;
+    result.relaxation_sweeps = centroid_relaxation(mesh, X, sweeps, 10, ProgressWindow(progress, 0.05, 0.1));
+    if (kernels->count_flipped(X) > 0 && options.weights != Weights::Barycentric &&
+        options.init != InitialMap::Relaxation) {
+      const SpringGraph uniform = build_spring_graph(mesh, edge_weights(mesh, Weights::Barycentric));
+      X = stereographic_tutte_map(mesh, uniform, *factor_punctured_laplacian(mesh, uniform));
+      if (kernels->count_flipped(X) > 0)
+        result.relaxation_sweeps += centroid_relaxation(mesh, X, sweeps, 10, ProgressWindow(progress, 0.05, 0.1));
+    }
+    const Index start_folds = kernels->count_flipped(X);
+    PM_REQUIRE(start_folds == 0 || automatic, ComputeError, "could not build a fold-free start: ", start_folds,
+               " faces still folded after ", result.relaxation_sweeps,
+               " relaxation sweeps (init=\"auto\" or \"progressive\" builds one that is fold-free by construction)");
+    progressive = start_folds > 0;
+  }
+  double start_done = 0.1;
+  if (progressive) {
+    X = progressive_sphere_map(mesh, {}, ProgressWindow(progress, 0.05, 0.45)).positions;
+    result.initial_map = "progressive";
+    start_done = 0.5;
+  } else {
+    result.initial_map = options.init == InitialMap::Relaxation ? "relaxation" : "stereographic";
+  }
+  if (progress) progress->report(start_done - 0.01, "initial map");
   mobius_center(X, mesh.F(), vertex_areas(mesh));
   clock.mark("initial map");
 
   // Outer loop (3.3.1).
   TangentPlaneSolver inner(graph, options.solver, *kernels, laplacian);
   InnerOptions inner_options;
-  inner_options.tol = options.tol;
+  // After the progressive start the steps go towards a conformal map the
+  // limbs keep out of reach (most are cut short): a residual of 1e-4 gives
+  // the same maps (cat, dancer, horned cow, stars: quasi-conformal
+  // distortion equal to 3 digits) in a quarter of the PCG iterations.
+  inner_options.tol = progressive ? std::max(options.tol, 1e-4) : options.tol;
   inner_options.max_iterations = options.max_iterations;
   inner_options.check_every = options.check_every;
   inner_options.omega = options.omega;
@@ -132,14 +185,38 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   result.stop_reason = "max_outer_iterations";
   MatrixX3d U;
   for (int outer = 0; outer < options.max_outer_iterations; ++outer) {
-    const double lo = 0.1 + 0.85 * outer / options.max_outer_iterations;
-    const double hi = 0.1 + 0.85 * (outer + 1) / options.max_outer_iterations;
+    const double span = 0.95 - start_done;
+    const double lo = start_done + span * outer / options.max_outer_iterations;
+    const double hi = start_done + span * (outer + 1) / options.max_outer_iterations;
     if (progress) progress->report(lo, "outer iteration " + std::to_string(outer + 1));
     const InnerResult step = inner.solve(X, U, inner_options, ProgressWindow(progress, lo, hi));
     normalize_rows(U);
-    if (kernels->count_flipped(U) > 0) {
+    const bool folds = kernels->count_flipped(U) > 0;
+    if (folds && options.keep_squeezed_start) {
       result.stop_reason = "fold";
       break;
+    }
+    if (folds || (!options.keep_squeezed_start && squeezed_faces(U, mesh.F()) > squeezed_faces(X, mesh.F()))) {
+      // A step that folds or squeezes faces to rounding (towards a
+      // conformal map that long limbs make unrepresentable): part of it,
+      // as far as every face stays kClearTriple clear of rounding.
+      // (Measured: cutting the step back vertex by vertex instead, only
+      // where faces would squeeze, raised the energy and moved less.)
+      const double clear = std::min(kClearTriple, 0.5 * min_triple(X, mesh.F()));
+      bool partial = false;
+      for (double t = 0.5; t >= 1.0 / 64 && !partial; t *= 0.5) {
+        MatrixX3d Y = X + t * (U - X);
+        normalize_rows(Y);
+        if (min_triple(Y, mesh.F()) > clear) {
+          U.swap(Y);
+          partial = true;
+        }
+      }
+      if (!partial) {
+        result.stop_reason = "fold";
+        break;
+      }
+      result.partial_steps += 1;
     }
     const double next_energy = kernels->energy(U);
     // Proposition 3.1: |u_i| >= 1, so renormalising cannot raise the energy,

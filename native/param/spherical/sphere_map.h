@@ -23,7 +23,7 @@
 
 namespace paramorph::spherical {
 
-enum class InitialMap { Auto, Stereographic, Relaxation };
+enum class InitialMap { Auto, Stereographic, Relaxation, Progressive };
 InitialMap parse_initial_map(const std::string& name);
 
 struct SphereMapOptions {
@@ -39,6 +39,12 @@ struct SphereMapOptions {
   double omega = 0.9;               ///< Jacobi damping
   int max_relaxation_sweeps = 20000;
   bool reorder = true;              ///< renumber vertices for locality while solving
+  /// init Auto: keep a Tutte start squeezed to rounding (replaced only when
+  /// it folds), and take outer steps unless they fold, as before issue 28.
+  /// For the thesis' area-stretch features (segment_extremities,
+  /// shape_signature), whose thresholds were measured on that map: a limb
+  /// squeezed to 1e-17 reads as an extremity either way.
+  bool keep_squeezed_start = false;
 };
 
 struct SphereMapResult {
@@ -57,6 +63,14 @@ struct SphereMapResult {
   /// on a mesh it does not converge on; fold-free all the same).
   std::string stop_reason;
   int relaxation_sweeps = 0;         ///< centroid-relaxation sweeps spent on the start
+  /// The start used: "stereographic" (Tutte), "progressive" (built fold-free
+  /// coarse to fine) or "relaxation" (the thesis' radial projection).
+  std::string initial_map;
+  /// Faces of the Tutte start with triple products within rounding of 0
+  /// (<= 1e-13); with init "auto", any sends it to the progressive start.
+  Index squeezed_start = 0;
+  /// Outer steps cut short so that no face folds or reaches rounding.
+  int partial_steps = 0;
   VectorXd area_stretch;             ///< #V, Def. 3.1
   std::string weights, solver, backend, device, backend_note;
   double seconds = 0.0;
