@@ -15,7 +15,7 @@ class ParamorphPreferences(bpy.types.AddonPreferences):
 
     backend: bpy.props.EnumProperty(
         name="Backend",
-        items=[("auto", "Automatic", "OpenCL when a device builds the kernels, else the CPU"),
+        items=[("auto", "Automatic", "OpenCL on a GPU, else the CPU path (faster than OpenCL on a CPU)"),
                ("opencl", "OpenCL", "Always OpenCL (an error when no device works)"),
                ("cpu", "CPU", "Plain C++ with OpenMP")],
         default="auto")

@@ -104,7 +104,7 @@ tol: stop when the energy fell by less than tol (relative) over the last 10 iter
 A folded start is untangled first (Algorithm 2); folds that cannot be removed raise
 ConstraintError unless allow_folds=True. Raises NotOpenError for a closed mesh,
 NotGenusZeroError for a patch with handles.
-backend: "auto" (OpenCL when a device builds the kernels, else C++), "opencl", "cpu";
+backend: "auto" (OpenCL on a GPU that builds the kernels, else C++: on a CPU device the C++ path is faster), "opencl", "cpu";
 the energy, gradient and step bound run there (thesis 2.3.2).)doc");
 }
 

@@ -204,7 +204,7 @@ tol: relative residual each tangent-plane saddle-point solve must reach (at most
 1e-4 after a progressive start, whose steps are cut short where limbs squeeze).
 max_iterations: inner iterations allowed per saddle-point solve.
 solver: "auto" (= "pcg"), "pcg", "cholesky" or "jacobi" (thesis Algorithm 3).
-backend: "auto" (OpenCL when a device builds the kernels, else C++), "opencl", "cpu".
+backend: "auto" (OpenCL on a GPU that builds the kernels, else C++: on a CPU device the C++ path is faster), "opencl", "cpu".
 progress: callable(fraction, stage) -> bool; returning False raises Cancelled.
 max_outer_iterations, outer_tol: outer loop limits (stops when the relative energy
 decrease drops below outer_tol; a step that would fold a face or squeeze one to

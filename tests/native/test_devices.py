@@ -3,6 +3,7 @@ import glob
 
 import pytest
 
+import meshes
 import paramorph_native as pm
 
 
@@ -44,3 +45,19 @@ def test_with_no_opencl_driver_the_module_imports_runs_on_the_cpu_and_says_why(t
     proc = subprocess.run([sys.executable, "-c", code, here], env=env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "no OpenCL driver found" in proc.stdout and "CPU path" in proc.stdout, proc.stdout
+
+
+def test_auto_takes_the_cpu_path_over_an_opencl_cpu_device():
+    # PoCL runs the kernels on the same cores as the C++ path, slower
+    # (compute/select_backend.h has the figures); auto picks OpenCL for GPUs only.
+    devices = [d for d in pm.devices() if d["usable"]]
+    if not devices or not any(d["selected"] for d in devices):
+        pytest.skip("no usable OpenCL device")
+    selected = next(d for d in devices if d["selected"])
+    V, F = meshes.noisy_blob(2)
+    auto = pm.sphere_map(V, F)
+    if selected["type"] == "cpu":
+        assert auto.backend == "cpu" and "is a CPU" in auto.backend_note, auto.backend_note
+        assert pm.sphere_map(V, F, backend="opencl").backend == "opencl"  # still there when asked for
+    else:
+        assert auto.backend == "opencl"
