@@ -50,6 +50,9 @@ class PARAMORPH_OT_sphere_map(NativeOperator, bpy.types.Operator):
             bridge.write_sphere_map(obj, V, positions, shape_key=self.shape_key, mapped=mapped)
         line = (f"Sphere map: {len(result.positions)} vertices, {result.flipped} folds, "
                 f"{result.seconds:.2f} s on {result.backend}")
+        if getattr(result, "initial_map", "") == "progressive":
+            # Long limbs: the conformal map would squeeze them to nothing.
+            line += " (long parts: laid out coarse to fine, as conformal as they allow)"
         return repair_mesh.with_summary(line, fixed)
 
 

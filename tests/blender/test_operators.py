@@ -53,6 +53,31 @@ def test_sphere_map_operator_writes_uv_and_shape_key():
     assert np.all(np.isfinite(uv)) and uv[:, 1].min() >= 0 and uv[:, 1].max() <= 1
 
 
+def test_sphere_map_of_a_long_coiled_tube_is_fold_free_and_says_how(capfd):
+    # Issue 28: before, "could not build a fold-free start" on such a mesh.
+    import os
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "native"))
+    import meshes
+    V, F = meshes.coiled_tube()
+    mesh = bpy.data.meshes.new("Coil")
+    mesh.from_pydata(V.tolist(), [], F.tolist())
+    obj = bpy.data.objects.new("Coil", mesh)
+    bpy.context.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    capfd.readouterr()
+    assert bpy.ops.paramorph.sphere_map() == {"FINISHED"}
+    out, err = capfd.readouterr()
+    key = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.shape_keys.key_blocks["Sphere"].data.foreach_get("co", key)
+    X = key.reshape(-1, 3).astype(np.float64) - 0.5 * (V.min(axis=0) + V.max(axis=0))  # about the box's centre
+    X /= np.linalg.norm(X, axis=1, keepdims=True)
+    det = np.einsum("ij,ij->i", X[F[:, 0]], np.cross(X[F[:, 1]], X[F[:, 2]]))
+    assert (det > 0).all()  # the shape key holds the map (in float32): every face turned outward
+    assert "laid out coarse to fine" in out + err, out + err  # Blender prints operator reports in -b
+
+
 def test_sphere_map_in_edit_mode_returns_to_edit_mode():
     obj = make_samples.build_blob(subdivisions=3)
     bpy.ops.object.mode_set(mode="EDIT")

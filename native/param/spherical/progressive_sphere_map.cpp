@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -86,6 +87,7 @@ class Embedding {
   }
 
   void run(ProgressWindow& progress, ProgressiveSphereResult& result) {
+    progress_ = &progress;
     const Index collapses = Index(sequence_.removed.size());
     Index next_level = Index(std::ceil(4 * o_.level_ratio));
     for (Index c = collapses; c-- > 0;) {
@@ -95,7 +97,8 @@ class Embedding {
         ++result.levels;
         next_level = std::max(next_level + 1, Index(std::ceil(double(order_.size()) * o_.level_ratio)));
       }
-      if (c % 512 == 0) progress.report(double(collapses - c) / double(std::max<Index>(collapses, 1)), "embed coarse to fine");
+      done_ = double(collapses - c) / double(std::max<Index>(collapses, 1));
+      if (c % 512 == 0) progress.report(done_, "embed coarse to fine");
     }
     result.vertex_steps = steps_;
   }
@@ -213,8 +216,13 @@ class Embedding {
   void relax_all(int sweeps = -1) {
     const Index n = Index(order_.size());
     if (sweeps < 0) sweeps = int(std::clamp(o_.level_work / double(n), double(o_.min_sweeps), double(o_.max_sweeps)));
+    // A sweep over a million vertices takes a second: report within it.
+    const std::string stage = "relax " + std::to_string(n) + " vertices";
     for (int sweep = 0; sweep < sweeps; ++sweep)
-      for (const Index v : order_) relax(v, 1);
+      for (Index k = 0; k < n; ++k) {
+        relax(order_[std::size_t(k)], 1);
+        if (progress_ && k % 4096 == 4095) progress_->report(done_, stage);
+      }
   }
 
   /// Where collapse c's removed vertex goes back: the centroid of the kernel
@@ -309,6 +317,8 @@ class Embedding {
   double total_area_ = 0;
   std::vector<Index> order_;
   long long steps_ = 0;
+  ProgressWindow* progress_ = nullptr;
+  double done_ = 0;  ///< share of the insertions done
 };
 
 }  // namespace
