@@ -201,14 +201,14 @@ V: (n, 3) float64 or float32 vertex positions. F: (m, 3) int32 or int64 triangle
 counter-clockwise seen from outside.
 weights: "conformal" (cotangent, angles clamped to [5°, 85°]) or "barycentric".
 tol: relative residual each tangent-plane saddle-point solve must reach (at most
-1e-4 after a progressive start, whose steps are cut short where limbs squeeze).
+1e-3 after a progressive start, whose steps are cut short where limbs squeeze).
 max_iterations: inner iterations allowed per saddle-point solve.
 solver: "auto" (= "pcg"), "pcg", "cholesky" or "jacobi" (thesis Algorithm 3).
 backend: "auto" (OpenCL on a GPU that builds the kernels, else C++: on a CPU device the C++ path is faster), "opencl", "cpu".
 progress: callable(fraction, stage) -> bool; returning False raises Cancelled.
 max_outer_iterations, outer_tol: outer loop limits (stops when the relative energy
 decrease drops below outer_tol; a step that would fold a face or squeeze one to
-rounding is cut short). init: "auto" (the Tutte start where no face of it is within
+rounding is cut short; at most 2 after a progressive start). init: "auto" (the Tutte start where no face of it is within
 rounding of 0, else the progressive one: never fails), "stereographic" (Tutte,
 repaired by relaxation), "progressive" (built fold-free coarse to fine) or
 "relaxation" (the thesis' radial projection).

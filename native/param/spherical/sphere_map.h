@@ -33,7 +33,7 @@ struct SphereMapOptions {
   InitialMap init = InitialMap::Auto;
   double tol = 1e-7;                ///< relative residual of every saddle-point solve
   int max_iterations = 200000;      ///< inner iterations per saddle-point solve
-  int max_outer_iterations = 4;     ///< the thesis reports 2–4
+  int max_outer_iterations = 4;     ///< the thesis reports 2–4 (at most 2 after a progressive start)
   double outer_tol = 1e-3;          ///< stop when (E_prev - E) / E_prev < outer_tol
   int check_every = 50;             ///< Jacobi: sweeps between residual tests
   double omega = 0.9;               ///< Jacobi damping
