@@ -60,6 +60,8 @@ class ProgressWindow {
     last_ = fraction;
     parent_->report(lo_ + (hi_ - lo_) * fraction, stage);
   }
+  /// Whether reports go anywhere.
+  bool active() const { return parent_ != nullptr; }
   /// The part [a, b] of this window (0 <= a <= b <= 1), for a nested stage.
   ProgressWindow part(double a, double b) const {
     return ProgressWindow(parent_, lo_ + (hi_ - lo_) * a, lo_ + (hi_ - lo_) * b);

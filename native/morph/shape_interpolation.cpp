@@ -10,14 +10,13 @@
 #include <limits>
 #include <deque>
 #include <chrono>
-#include <future>
-#include <thread>
 #include <numeric>
 #include <unordered_map>
 
 #include "common/best_rotation.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
+#include "common/report_while.h"
 #include "common/parallel.h"
 #include "common/supernodal_cholesky.h"
 #include "mesh/self_intersections.h"
@@ -390,28 +389,14 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
 }
 
 void ShapeInterpolation::factor(Eigen::SparseMatrix<double>& H, Progress* progress) {
-  if (!progress) {
-    factor_->llt.compute(H);
-    return;
-  }
   // The one factorisation cannot report (2.4 s for the 291k vertices of a
-  // 97k-onto-48k-face morph): it runs on a thread of its own while this one
-  // reports every 20 ms, so a cancel returns at once (issue 20: Esc within
-  // 0.5 s). A cancelled setup leaves the thread to finish and drop the factor
-  // and the matrix, which it owns with this object's share; it holds the BLAS
-  // lock until then, so the next factorisation waits for it rather than
-  // sharing OpenBLAS's buffers with it.
-  auto factoring = std::make_shared<std::pair<std::shared_ptr<Factor>, Eigen::SparseMatrix<double>>>(
-      factor_, std::move(H));
-  std::promise<void> finished;
-  std::future<void> done = finished.get_future();
-  std::thread([factoring, finished = std::move(finished)]() mutable {
-    factoring->first->llt.compute(factoring->second);
-    factoring->second = Eigen::SparseMatrix<double>();
-    finished.set_value();
-  }).detach();
-  while (done.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready)
-    progress->report(0.9, "in-betweens: setup");
+  // 97k-onto-48k-face morph): it runs beside a thread that reports, and a
+  // cancelled setup leaves it to finish and drop the factor and the matrix,
+  // which it owns with this object's share; it holds the BLAS lock until
+  // then, so the next factorisation waits for it rather than sharing
+  // OpenBLAS's buffers with it.
+  auto matrix = std::make_shared<Eigen::SparseMatrix<double>>(std::move(H));
+  report_while([factor = factor_, matrix] { factor->llt.compute(*matrix); }, progress, 0.9, "in-betweens: setup");
 }
 
 Eigen::Matrix3d ShapeInterpolation::wish(Index f, double t, bool neighbourhood) const {

@@ -128,11 +128,15 @@ IsometricSphereResult isometric_sphere_map(const MatrixX3d& V, const MatrixX3i& 
              "isometric sphere map: the start has faces turned over or degenerate");
   result.start_energy = energy / minimum;
 
-  TangentNewton newton(F, vertices, o.fixed);
+  int step = 0;  // (for the reports while the analysis and factorisations run)
+  std::function<void()> tick;
+  if (progress.active())
+    tick = [&] { progress.report(double(step) / std::max(1, o.max_steps), "isometric sphere map: factor"); };
+  TangentNewton newton(F, vertices, o.fixed, tick);
   std::vector<Mat6> face_hessian(static_cast<std::size_t>(faces));
   std::vector<Vec6> face_gradient(static_cast<std::size_t>(faces));
   MatrixX3d trial(vertices, 3);
-  for (int step = 0; step < o.max_steps; ++step) {
+  for (; step < o.max_steps; ++step) {
     newton.begin(X);
     // Per face: the Euclidean Hessian by central differences of the exact
     // gradient, then in the corners' tangent coordinates,

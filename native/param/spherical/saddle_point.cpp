@@ -169,8 +169,9 @@ InnerResult TangentPlaneSolver::solve_pcg(const MatrixX3d& x, MatrixX3d& u, cons
       const double rz_next = dot(rho, z);
       p = z + (rz_next / rz) * p;
       rz = rz_next;
-      if (result.iterations % 10 == 0)
-        progress.report(std::log(result.residual) / std::log(o.tol), "pcg");
+      // Every iteration (the report itself is throttled): one takes 0.14 s at
+      // a million faces.
+      progress.report(std::log(result.residual) / std::log(o.tol), "pcg");
     }
   }
   project(x, t);  // keep x_i · u_i = 1 exact despite rounding in the updates

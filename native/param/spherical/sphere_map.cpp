@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "common/errors.h"
+#include "common/report_while.h"
 #include "compute/select_backend.h"
 #include "mesh/reorder.h"
 #include "mesh/tri_mesh.h"
@@ -101,7 +102,17 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   clock.mark("reorder");
   if (progress) progress->report(0.02, "setup");
 
-  const SpringGraph graph = build_spring_graph(mesh, edge_weights(mesh, options.weights));
+  // Shared, so a factorisation left running by a cancel still has them.
+  const auto shared_mesh = std::make_shared<const TriMesh>(mesh);
+  const auto shared_graph =
+      std::make_shared<const SpringGraph>(build_spring_graph(mesh, edge_weights(mesh, options.weights)));
+  const SpringGraph& graph = *shared_graph;
+  // The factorisation cannot report (11 s at a million faces): it runs
+  // beside a thread that does, and a cancel returns at once.
+  auto factor = [&](const std::shared_ptr<const SpringGraph>& weights) {
+    return report_while([shared_mesh, weights] { return factor_punctured_laplacian(*shared_mesh, *weights); },
+                        progress, 0.05, "factor the Laplacian");
+  };
   auto kernels = compute::select_backend(
       options.backend, [&] { return make_cpu_kernels(graph, mesh.F()); },
       [&](std::string& why) { return make_opencl_kernels(graph, mesh.F(), why); },
@@ -117,7 +128,7 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
   // preconditioner.
   std::shared_ptr<const PuncturedLaplacian> laplacian;
   const bool tutte = options.init == InitialMap::Auto || options.init == InitialMap::Stereographic;
-  if (tutte || options.solver == InnerSolver::Pcg) laplacian = factor_punctured_laplacian(mesh, graph);
+  if (tutte || options.solver == InnerSolver::Pcg) laplacian = factor(shared_graph);
   clock.mark("factor");
   if (progress) progress->report(0.05, "initial map");
   MatrixX3d X;
@@ -150,8 +161,9 @@ SphereMapResult sphere_map(const MatrixX3d& V_in, const MatrixX3i& F_in,
     result.relaxation_sweeps = centroid_relaxation(mesh, X, sweeps, 10, ProgressWindow(progress, 0.05, 0.1));
     if (kernels->count_flipped(X) > 0 && options.weights != Weights::Barycentric &&
         options.init != InitialMap::Relaxation) {
-      const SpringGraph uniform = build_spring_graph(mesh, edge_weights(mesh, Weights::Barycentric));
-      X = stereographic_tutte_map(mesh, uniform, *factor_punctured_laplacian(mesh, uniform));
+      const auto uniform =
+          std::make_shared<const SpringGraph>(build_spring_graph(mesh, edge_weights(mesh, Weights::Barycentric)));
+      X = stereographic_tutte_map(mesh, *uniform, *factor(uniform));
       if (kernels->count_flipped(X) > 0)
         result.relaxation_sweeps += centroid_relaxation(mesh, X, sweeps, 10, ProgressWindow(progress, 0.05, 0.1));
     }

@@ -9,6 +9,7 @@
 
 #include "common/errors.h"
 #include "common/parallel.h"
+#include "common/report_while.h"
 #include "common/supernodal_cholesky.h"
 
 namespace paramorph::spherical {
@@ -39,9 +40,10 @@ struct TangentNewton::Solver {
   SupernodalCholesky<SparseMatrix> llt;
 };
 
-TangentNewton::TangentNewton(const MatrixX3i& F, Index vertices, const std::vector<Index>& fixed)
+TangentNewton::TangentNewton(const MatrixX3i& F, Index vertices, const std::vector<Index>& fixed,
+                             std::function<void()> tick)
     : F_(F), fixed_(std::size_t(vertices), 0), bases_(std::size_t(vertices)), gradient_(VectorXd::Zero(2 * vertices)),
-      solver_(std::make_unique<Solver>()) {
+      solver_(std::make_shared<Solver>()), tick_(std::move(tick)) {
   for (const Index v : fixed) {
     PM_REQUIRE(v >= 0 && v < vertices, InvalidInputError, "fixed vertex ", v, " out of range");
     fixed_[std::size_t(v)] = 1;
@@ -90,7 +92,7 @@ TangentNewton::TangentNewton(const MatrixX3i& F, Index vertices, const std::vect
   s.llt.cholmod().method[0].ordering = CHOLMOD_AMD;
   s.llt.cholmod().method[1].ordering = CHOLMOD_METIS;
   s.llt.cholmod().postorder = 1;
-  s.llt.analyze(s.A);
+  report_while([solver = solver_] { solver->llt.analyze(solver->A); }, tick_);
   s.scale.resize(2 * vertices);
   s.scaled.resize(s.A.nonZeros());
 }
@@ -137,17 +139,27 @@ VectorXd TangentNewton::solve() {
   for (Index c = 0; c < n; ++c)
     for (Index k = outer[c]; k < outer[c + 1]; ++k) values[k] *= s.scale[c] * s.scale[inner[k]];
   std::copy(values, values + nonzeros, s.scaled.data());
-  for (double tau = 0;;) {
-    if (tau > 0) {
-      std::copy(s.scaled.data(), s.scaled.data() + nonzeros, values);
-      for (Index c = 0; c < n; ++c) values[outer[c]] += tau;
-    }
-    s.llt.factorize(s.A);
-    ++factorizations_;
-    if (s.llt.info() == Eigen::Success) break;
-    PM_REQUIRE(tau < 1e8, ComputeError, "no positive definite Newton system on the sphere");
-    tau = tau == 0 ? 1e-10 : 8 * tau;
-  }
+  // Factored beside a reporting thread, which owns the solver with this
+  // object (a cancel leaves it to finish alone).
+  factorizations_ += report_while(
+      [solver = solver_, n, nonzeros] {
+        Solver& s = *solver;
+        double* values = s.A.valuePtr();
+        const Index* outer = s.A.outerIndexPtr();
+        int tries = 0;
+        for (double tau = 0;;) {
+          if (tau > 0) {
+            std::copy(s.scaled.data(), s.scaled.data() + nonzeros, values);
+            for (Index c = 0; c < n; ++c) values[outer[c]] += tau;
+          }
+          s.llt.factorize(s.A);
+          ++tries;
+          if (s.llt.info() == Eigen::Success) return tries;
+          PM_REQUIRE(tau < 1e8, ComputeError, "no positive definite Newton system on the sphere");
+          tau = tau == 0 ? 1e-10 : 8 * tau;
+        }
+      },
+      tick_);
   return -s.scale.cwiseProduct(s.llt.solve(s.scale.cwiseProduct(gradient_)));
 }
 

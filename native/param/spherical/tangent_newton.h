@@ -9,6 +9,7 @@
 // (param/spherical/isometric_sphere_map).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -28,8 +29,12 @@ Mat6 project_psd(const Mat6& H);
 
 class TangentNewton {
  public:
-  /// F: the faces; vertices: #V; fixed: vertices that never move.
-  TangentNewton(const MatrixX3i& F, Index vertices, const std::vector<Index>& fixed = {});
+  /// F: the faces; vertices: #V; fixed: vertices that never move. tick:
+  /// called every 20 ms while the analysis and each factorisation run (on
+  /// a thread of their own, common/report_while.h: seconds at 400k faces);
+  /// it may throw Cancelled.
+  TangentNewton(const MatrixX3i& F, Index vertices, const std::vector<Index>& fixed = {},
+                std::function<void()> tick = {});
   ~TangentNewton();
   TangentNewton(const TangentNewton&) = delete;
   TangentNewton& operator=(const TangentNewton&) = delete;
@@ -61,7 +66,8 @@ class TangentNewton {
   std::vector<char> fixed_;
   std::vector<Mat32> bases_;
   VectorXd gradient_;
-  std::unique_ptr<Solver> solver_;
+  std::shared_ptr<Solver> solver_;  ///< shared with a factorisation a cancel left running
+  std::function<void()> tick_;
   int factorizations_ = 0;
 };
 
