@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/errors.h"
+#include "common/parallel.h"
 #include "common/progress.h"
 
 namespace paramorph::python {
@@ -70,6 +71,7 @@ class PythonProgress {
 /// Runs fn() without the GIL, translating a callback's own exception.
 template <typename Fn>
 auto run_without_gil(PythonProgress& progress, Fn&& fn) {
+  adapt_threads_to_load();  // the caller's thread: Blender's job threads too
   try {
     py::gil_scoped_release release;
     return fn();
