@@ -64,7 +64,6 @@ class Embedding {
     alive_.assign(std::size_t(m), 1);
     for (Index c = 0; c < Index(sequence.removed.size()); ++c) apply_collapse(sequence, c, G_, alive_);
     X_.setZero(n, 3);
-    present_.assign(std::size_t(n), 0);
     incident_.resize(std::size_t(n));
     cotangent_.setZero(m, 3);
     area_.setZero(m);
@@ -79,7 +78,6 @@ class Embedding {
     for (int k = 0; k < 4; ++k) {
       const Index v = sequence.base_vertices[std::size_t(k)];
       X_.row(v) = corners[k].transpose();
-      present_[std::size_t(v)] = 1;
       order_.push_back(v);
     }
     const Index f0 = sequence.base_faces[0];
@@ -297,7 +295,6 @@ class Embedding {
       for (int k = 0; k < 3; ++k)
         if (G_(f, k) != v) incident_[std::size_t(G_(f, k))].push_back(f);
     X_.row(v) = y.transpose();
-    present_[std::size_t(v)] = 1;
     order_.push_back(v);
     relax(v, o_.insert_steps);
     relax(u, 2);
@@ -309,7 +306,7 @@ class Embedding {
   const CollapseSequence& sequence_;
   const ProgressiveSphereOptions& o_;
   MatrixX3i G_;
-  std::vector<char> alive_, present_;
+  std::vector<char> alive_;
   MatrixX3d X_;
   std::vector<std::vector<Index>> incident_;
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> cotangent_;
