@@ -201,7 +201,7 @@ V: (n, 3) float64 or float32 vertex positions. F: (m, 3) int32 or int64 triangle
 counter-clockwise seen from outside.
 weights: "conformal" (cotangent, angles clamped to [5°, 85°]) or "barycentric".
 tol: relative residual each tangent-plane saddle-point solve must reach (at most
-1e-3 after a progressive start, whose steps are cut short where limbs squeeze).
+1e-2 after a progressive start, whose steps are cut short where limbs squeeze).
 max_iterations: inner iterations allowed per saddle-point solve.
 solver: "auto" (= "pcg"), "pcg", "cholesky" or "jacobi" (thesis Algorithm 3).
 backend: "auto" (OpenCL on a GPU that builds the kernels, else C++: on a CPU device the C++ path is faster), "opencl", "cpu".

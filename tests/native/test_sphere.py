@@ -42,9 +42,9 @@ def test_every_closed_family_maps_fold_free(name, weights):
     assert folded_faces(X, F).size == 0, f"{name}: folded faces {folded_faces(X, F)[:10]}"
     assert result.flipped == 0
     assert result.outer_iterations >= 1, f"{name}: stopped before any step ({result.stop_reason})"
-    # After the progressive start (tentacles) the solves stop at 1e-3: the
+    # After the progressive start (tentacles) the solves stop at 1e-2: the
     # steps are cut short where limbs would squeeze.
-    tol = 1e-3 if result.initial_map == "progressive" else 1e-7
+    tol = 1e-2 if result.initial_map == "progressive" else 1e-7
     assert result.residual <= tol, f"{name}: residual {result.residual}"
     history = np.asarray(result.energy_history)
     assert not result.energy_increased
@@ -97,9 +97,9 @@ def test_opencl_and_cpu_agree(name, solver):
     assert ocl.backend == "opencl" and cpu.backend == "cpu"
     assert ocl.flipped == 0 and folded_faces(ocl.positions, F).size == 0
     # The same start either way; the steps after a progressive start are
-    # solved to a residual of 1e-3, not 1e-7, and agree to about that.
+    # solved to a residual of 1e-2, not 1e-7, and agree to about that.
     assert cpu.initial_map == ocl.initial_map
-    assert max_angle(cpu.positions, ocl.positions) < (1e-3 if cpu.initial_map == "progressive" else 1e-5)
+    assert max_angle(cpu.positions, ocl.positions) < (1e-2 if cpu.initial_map == "progressive" else 1e-5)
 
 
 @pytest.mark.parametrize("scale", [1e-6, 1e6])

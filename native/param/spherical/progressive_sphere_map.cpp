@@ -186,7 +186,8 @@ class Embedding {
       const Mat32 T = tangent_basis(y);
       const Vec2 gt = T.transpose() * g;
       Mat2 Ht = T.transpose() * H * T - y.dot(g) * Mat2::Identity();
-      Eigen::SelfAdjointEigenSolver<Mat2> eigen(Ht);
+      Eigen::SelfAdjointEigenSolver<Mat2> eigen;
+      eigen.computeDirect(Ht);  // closed form for 2 by 2
       Vec2 lambda = eigen.eigenvalues();
       const double floor = std::max(1e-12, 1e-8 * std::abs(lambda[1]));
       lambda = lambda.cwiseMax(floor);
