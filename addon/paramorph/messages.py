@@ -10,13 +10,16 @@ def _count(n, word):
     return f"{n} {word}{'' if n == 1 else 's'}"
 
 
-def describe(error, V=None, F=None, repair=None, numbering=None):
+def describe(error, V=None, F=None, repair=None, numbering=None, constraints=None):
     """A one-line message for `error`; V, F (the arrays sent to the native
     call) let it count holes and components. repair: None when the operator
     has no Repair option, else whether it was on (the advice differs).
     numbering: a blender_numbers.MeshNumbering of the mesh V, F came from,
-    to name its elements as Blender numbers them."""
-    text = _describe(error, V, F, repair, numbering)
+    to name its elements as Blender numbers them. constraints: what a
+    ConstraintError is about: "uv" (pinned UVs, Isometric Unwrap), "pins"
+    (the morph's pins and pairs, which the native text names), or None (the
+    native text says what cannot be met)."""
+    text = _describe(error, V, F, repair, numbering, constraints)
     if repair is False and native is not None and isinstance(
             error, (native.NotClosedError, native.DisconnectedError, native.NonManifoldError,
                     native.DegenerateFaceError)):
@@ -34,7 +37,7 @@ def _coincident_vertices(V, F):
     return len(points) - len(np.unique(points, axis=0))
 
 
-def _describe(error, V, F, repair, numbering):
+def _describe(error, V, F, repair, numbering, constraints):
     pm = native
     if pm is None:
         return str(error)
@@ -88,12 +91,34 @@ def _describe(error, V, F, repair, numbering):
         return text if text.startswith("mesh ") else (
             f"mesh has zero-area faces ({text}): Mesh > Clean Up > Degenerate Dissolve fixes them")
     if isinstance(error, pm.ConstraintError):
-        return f"the pinned UVs cannot all be met without folds ({error}): unpin or move some"
+        return _constraint_message(error, constraints)
     if isinstance(error, pm.InvalidInputError):
         return f"invalid input: {error}"
+    device_error = getattr(pm, "DeviceError", None)  # older builds lack it
+    if device_error is not None and isinstance(error, device_error):
+        return (f"the OpenCL device failed ({error}): choose the CPU backend in the add-on "
+                "preferences (--backend cpu on the command line)")
     if isinstance(error, pm.ComputeError):
-        return f"the OpenCL device failed ({error}): choose the CPU backend in the add-on preferences"
+        return _compute_message(error, repair)
     return f"{type(error).__name__}: {error}"
+
+
+def _constraint_message(error, constraints):
+    """Constraints that cannot all be met, in the words of the caller's constraints."""
+    if constraints == "uv":
+        return f"the pinned UVs cannot all be met without folds ({error}): unpin or move some"
+    if constraints == "pins":  # the native text names the pins or pairs and what they do
+        return f"{error}: move or remove the pins or pairs it names"
+    return str(error)
+
+
+def _compute_message(error, repair):
+    """A computation that could not finish (no fold-free map, a solver that did
+    not converge): what failed, and what to change on the mesh. Not the device's
+    fault: the CPU backend fails the same way."""
+    mend = "turn on Repair (in the operator's options), " if repair is False else ""
+    return (f"the computation could not finish ({error}): {mend}try Mesh > Clean Up, a Remesh or "
+            "Decimate of very thin parts, or report the mesh")
 
 
 def _selection_message(pm, error):

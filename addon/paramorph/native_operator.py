@@ -54,8 +54,11 @@ def numbering_of(object_name, F):
 class NativeOperator:
     """Mixin for bpy.types.Operator. Subclasses define
     prepare(context) -> (function, args, kwargs, state)   (may raise UserError)
-    finish(context, result, state) -> message for the INFO report."""
+    finish(context, result, state) -> message for the INFO report.
+    constraints: what a ConstraintError of the native call is about
+    (messages.describe's keyword: "uv" for pinned UVs, None otherwise)."""
 
+    constraints = None
     _job = None
     _timer = None
     _state = None
@@ -95,7 +98,8 @@ class NativeOperator:
         arrays = state.get("arrays", (None, None)) if isinstance(state, dict) else (None, None)
         name = state.get("object") if isinstance(state, dict) else None
         return messages.describe(error, *arrays, repair=getattr(self, "repair", None),
-                                 numbering=numbering_for(error, name, arrays[1]))
+                                 numbering=numbering_for(error, name, arrays[1]),
+                                 constraints=self.constraints)
 
     def execute(self, context):
         prepared = self._prepare_or_report(context)

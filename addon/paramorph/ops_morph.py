@@ -209,6 +209,8 @@ class CorrespondenceSettings:
 
 
 class _TwoMeshes(NativeOperator):
+    constraints = "pins"  # its ConstraintErrors name the pins and pairs that cannot be met
+
     @classmethod
     def poll(cls, context):
         return poll_reasons.two_meshes(cls, context)
@@ -221,8 +223,8 @@ class _TwoMeshes(NativeOperator):
             for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
                 if text.startswith(tag):
                     text = f"{state[side]}: {text[len(tag):]}"
-            return (f"{pair}: {text} (A: {state['source']}, B: {state['target']}): "
-                    "edit or remove pins or pairs in the Paramorph panel")
+            named = _with_text(error, f"{text} (A: {state['source']}, B: {state['target']})")
+            return f"{pair}: {messages.describe(named, constraints=self.constraints)}"
         for tag, side in (("mesh A: ", "source"), ("mesh B: ", "target")):
             if text.startswith(tag):
                 stripped = _with_text(error, text[len(tag):])
@@ -232,7 +234,8 @@ class _TwoMeshes(NativeOperator):
                 return f"{state[side]}: {described}"
         if isinstance(error, native.InvalidInputError):  # pins or pairs out of range
             return f"{pair}: {text} (A: {state['source']}, B: {state['target']})"
-        return messages.describe(error)
+        described = messages.describe(error, repair=getattr(self, "repair", None))
+        return described if isinstance(error, native.Cancelled) else f"{pair}: {described}"
 
 
 def _with_text(error, text):

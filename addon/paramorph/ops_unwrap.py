@@ -79,6 +79,7 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
     bl_idname = "paramorph.isometric_unwrap"
     bl_label = "Isometric Unwrap"
     bl_options = {"REGISTER", "UNDO"}
+    constraints = "uv"  # its ConstraintErrors are about pinned UVs
 
     max_iterations: bpy.props.IntProperty(
         name="Iterations", default=1000, min=1, max=100000,

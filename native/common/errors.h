@@ -51,10 +51,19 @@ class Cancelled : public std::runtime_error {
   Cancelled() : std::runtime_error("cancelled by the progress callback") {}
 };
 
-/// An OpenCL device failed (build log, out of resources); callers may fall back.
+/// A computation could not finish (did not converge, no valid map found); the
+/// message says what failed. Device failures are its subclass DeviceError.
 class ComputeError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+/// An OpenCL device failed: a kernel that does not build (with the device's
+/// build log), out of resources, a cl::Error mid-run, backend="opencl" with no
+/// usable device. The C++ backend (backend="cpu") avoids it; callers may fall
+/// back. A ComputeError, so `catch (const ComputeError&)` still catches it.
+class DeviceError : public ComputeError {
+ public:
+  using ComputeError::ComputeError;
 };
 
 namespace detail {

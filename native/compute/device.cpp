@@ -183,7 +183,7 @@ cl::Program& Device::program(const std::string& file) {
       log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
     } catch (const cl::Error&) {
     }
-    throw ComputeError("building kernels/" + file + " failed on " + description() + ":\n" + log);
+    throw DeviceError("building kernels/" + file + " failed on " + description() + ":\n" + log);
   }
   return programs_.emplace(file, std::move(program)).first->second;
 }
@@ -202,7 +202,7 @@ std::string kernel_source(const std::string& file) {
   if (it != embedded.end()) return it->second;
   std::string known;
   for (const auto& [name, text] : embedded) known += (known.empty() ? "" : ", ") + name;
-  throw ComputeError("unknown kernel file \"" + file + "\" (embedded: " + known + ")");
+  throw DeviceError("unknown kernel file \"" + file + "\" (embedded: " + known + ")");
 }
 
 Backend parse_backend(const std::string& name) {

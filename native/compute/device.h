@@ -52,7 +52,7 @@ class Device {
   const cl::Device& device() const { return device_; }
 
   /// The program built from kernels/<file> (e.g. "sphere.cl"), compiled once per
-  /// device and cached. Throws ComputeError with the device's build log.
+  /// device and cached. Throws DeviceError with the device's build log.
   cl::Program& program(const std::string& file);
 
  private:
@@ -77,7 +77,7 @@ std::shared_ptr<Device> default_device();
 std::string default_device_error();
 
 /// Source text of kernels/<file>: from PARAMORPH_KERNEL_DIR when set and the
-/// file exists there, else the embedded copy. Throws ComputeError if unknown.
+/// file exists there, else the embedded copy. Throws DeviceError if unknown.
 std::string kernel_source(const std::string& file);
 
 /// Generated at build time from kernels/*.cl (cmake/embed_kernels.cmake).

@@ -1,5 +1,5 @@
 // The backend rule every solver follows (DESIGN.md §3): "cpu" is the C++
-// path; "opencl" must get a device or raise ComputeError; "auto" takes OpenCL
+// path; "opencl" must get a device or raise DeviceError; "auto" takes OpenCL
 // when a GPU (or other accelerator) builds the kernels and otherwise uses
 // C++, saying why.
 //
@@ -36,7 +36,7 @@ auto select_backend(Backend backend, MakeCpu make_cpu, MakeOpenCl make_opencl, s
   std::string why;
   auto kernels = make_opencl(why);
   if (kernels) return kernels;
-  PM_REQUIRE(backend != Backend::OpenCL, ComputeError,
+  PM_REQUIRE(backend != Backend::OpenCL, DeviceError,
              "backend=\"opencl\" requested but unavailable: ", why);
   note = "OpenCL unavailable (" + why + "), used the C++ backend";
   return make_cpu();

@@ -26,6 +26,7 @@ void bind_errors(py::module_& m) {
                                                                   mesh_error.ptr());
   static py::exception<Cancelled> cancelled(m, "Cancelled", PyExc_RuntimeError);
   static py::exception<ComputeError> compute(m, "ComputeError", PyExc_RuntimeError);
+  static py::exception<DeviceError> device(m, "DeviceError", compute.ptr());
 
   // Most derived first: pybind11 tries translators in reverse registration order,
   // and one translator that checks derived types first keeps the mapping explicit.
@@ -60,10 +61,12 @@ void bind_errors(py::module_& m) {
       mesh_error(e.what());
     } catch (const Cancelled& e) {
       cancelled(e.what());
+    } catch (const DeviceError& e) {
+      device(e.what());
     } catch (const ComputeError& e) {
       compute(e.what());
     } catch (const cl::Error& e) {  // a device failing mid-run (out of resources, lost)
-      compute((std::string("OpenCL error in ") + e.what() + " (code " + std::to_string(e.err()) +
+      device((std::string("OpenCL error in ") + e.what() + " (code " + std::to_string(e.err()) +
                "); run with backend=\"cpu\"").c_str());
     }
   });

@@ -214,7 +214,8 @@ repaired by relaxation), "progressive" (built fold-free coarse to fine) or
 "relaxation" (the thesis' radial projection).
 check_every, omega: Jacobi residual-test period and damping.
 Raises NotClosedError, NotGenusZeroError, DisconnectedError, NonManifoldError,
-DegenerateFaceError, InvalidInputError (all MeshError), Cancelled, ComputeError.)doc");
+DegenerateFaceError, InvalidInputError (all MeshError), Cancelled, ComputeError (its subclass
+DeviceError when the OpenCL device fails).)doc");
 }
 
 }  // namespace paramorph::python

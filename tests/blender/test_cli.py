@@ -173,6 +173,39 @@ def test_sphere_repairs_a_messy_obj_and_fails_plainly_on_a_handle(cli, tmp_path)
     assert not out.exists()
 
 
+def test_an_opencl_device_that_fails_is_reported_as_the_device_with_the_cpu_way_out(cli, tmp_path, monkeypatch):
+    # Issue 29: only a DeviceError blames the device (and names --backend cpu).
+    make_samples.build_blob(subdivisions=2)
+    src, out = tmp_path / "blob.obj", tmp_path / "blob_sphere.blend"
+    export(src)
+    monkeypatch.setenv("PARAMORPH_OPENCL_DISABLE", "1")  # the fresh Blender finds no device
+    proc = run_cli(cli, tmp_path, "sphere", src, out, "--backend", "opencl")
+    assert proc.returncode == 1, output(proc)
+    assert ('paramorph sphere: error: Blob: the OpenCL device failed (backend="opencl" requested but '
+            "unavailable: no usable OpenCL device (OpenCL disabled by PARAMORPH_OPENCL_DISABLE=1)): "
+            "choose the CPU backend in the add-on preferences (--backend cpu on the command line)"
+            in proc.stderr), output(proc)
+    assert not out.exists()
+    proc = run_cli(cli, tmp_path, "sphere", src, out, "--backend", "cpu")  # the advice works
+    assert proc.returncode == 0 and out.exists(), output(proc)
+
+
+def test_morph_pins_that_cannot_be_met_are_reported_as_pins_not_uvs(cli, tmp_path):
+    # Issue 29: the morph's ConstraintError names the pins; the advice is about them.
+    V = bridge.mesh_arrays(make_samples.build_blob(subdivisions=2).data)[0]
+    a, b, c = (int(np.argmax(V[:, axis])) for axis in range(3))
+    blob_obj = tmp_path / "blob.obj"
+    export(blob_obj)
+    out = tmp_path / "morph.blend"
+    proc = run_cli(cli, tmp_path, "morph", blob_obj, blob_obj, "--no-automatic", "-o", out,
+                   "--pin", a, a, "--pin", b, c, "--pin", c, b)  # two swapped: a mirrored triple
+    assert proc.returncode == 1, output(proc)
+    assert "the pins are in mirrored order" in proc.stderr and "(pins 0, 1, 2)" in proc.stderr, output(proc)
+    assert "move or remove the pins or pairs it names" in proc.stderr, output(proc)
+    assert "UV" not in proc.stderr and "OpenCL" not in proc.stderr, output(proc)
+    assert not out.exists()
+
+
 def test_segment_extremities_stl_in(cli, tmp_path):
     vertices = len(make_samples.build_octopus(subdivisions=4, limbs=6).data.vertices)
     src, out = tmp_path / "octopus.stl", tmp_path / "octopus_regions.blend"

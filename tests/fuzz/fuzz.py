@@ -5,8 +5,8 @@ child process with a time limit.
 
 An outcome is fine when the call returns, raises one of the module's typed
 errors (a MeshError subclass; Cancelled when the callback asked to stop;
-ComputeError for an OpenCL failure) or pybind11's TypeError for arguments of
-the wrong Python type. Findings: a signal or sanitizer abort (the worker
+DeviceError, a ComputeError, for an OpenCL failure) or pybind11's TypeError
+for arguments of the wrong Python type. Findings: a signal or sanitizer abort (the worker
 dies), a call over the time limit, and any other exception (RuntimeError,
 MemoryError, IndexError, a plain ValueError ...). Each finding is saved as a
 case file (seed, index, target, arguments) under --out/findings and replays

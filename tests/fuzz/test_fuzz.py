@@ -53,6 +53,17 @@ def test_typed_errors_are_mesh_errors():
         assert not issubclass(getattr(pm, name), pm.MeshError)
 
 
+def test_only_a_device_error_is_a_valid_compute_error():
+    # Issue 29: an OpenCL failure is a DeviceError; a plain ComputeError is a
+    # finding even when its text mentions OpenCL (the class decides, not the words).
+    import worker
+    case = {"args": (), "kwargs": {}}
+    assert worker.classify(pm.DeviceError("building kernels/sphere.cl failed"), case, pm) == ("typed", "")
+    status, reason = worker.classify(pm.ComputeError("OpenCL error in clFinish (code -5)"), case, pm)
+    assert status == "untyped" and "DeviceError" in reason
+    assert worker.classify(pm.ComputeError("could not build a fold-free start"), case, pm)[0] == "untyped"
+
+
 @pytest.mark.parametrize("target", sorted(cases.TABLE))
 def test_cases_are_deterministic_and_pickle(target):
     for index in range(12):

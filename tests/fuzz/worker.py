@@ -45,10 +45,13 @@ def classify(error, case, module):
         if has_callback(everything, "false") or has_callback(everything, "after"):
             return "typed", ""
         return "untyped", "Cancelled without a callback asking to stop"
+    device_error = getattr(module, "DeviceError", None)  # a stand-in module may lack it
+    if device_error is not None and isinstance(error, device_error):
+        return "typed", ""
     if isinstance(error, module.ComputeError):
-        if "OpenCL" in message or "kernels/" in message:
+        if device_error is None and ("OpenCL" in message or "kernels/" in message):
             return "typed", ""
-        return "untyped", "ComputeError that is not an OpenCL failure"
+        return "untyped", "ComputeError that is not an OpenCL failure (DeviceError)"
     if type(error) is TypeError:
         if "incompatible function arguments" in message or "incompatible constructor arguments" in message:
             return "typed", ""  # pybind11's argument conversion

@@ -145,7 +145,7 @@ std::unique_ptr<SphereKernels> make_opencl_kernels(const SpringGraph& graph, con
                                                    std::string& why) {
   auto device = compute::default_device();
   if (!device) {
-    why = "no usable OpenCL device";
+    why = "no usable OpenCL device (" + compute::default_device_error() + ")";
     return nullptr;
   }
   try {
