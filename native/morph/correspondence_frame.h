@@ -3,6 +3,12 @@
 // area, so that an inside-out file (faces wound inwards), a model ten times
 // smaller or far from the origin is matched like any other. The morph itself
 // (the in-betweens) still uses the models as they are placed.
+//
+// Both models are also turned by one rotation taken from A's shape (issue
+// 29): its principal axes, each signed by the skew of the surface along it.
+// Every step after (simplification, maps, tips, registrations) then sees
+// the same numbers however the scene is turned, while what the user placed
+// side by side stays side by side.
 #pragma once
 
 #include "mesh/types.h"
@@ -20,5 +26,13 @@ struct CorrespondenceFrame {
 /// V, F: a closed, consistently oriented mesh (its enclosed volume decides
 /// the orientation; not checked here) with positive area.
 CorrespondenceFrame correspondence_frame(const MatrixX3d& V, const MatrixX3i& F);
+
+/// A rotation taken from the shape alone (rows: the area-weighted principal
+/// axes of the surface, largest spread first, signed so the surface's third
+/// moment along the two most skewed is positive, det +1): for V turned by
+/// any rotation Q it is this one times Q^T, up to rounding, except for
+/// shapes with equal spreads or no skew, whose frame no shape can fix.
+/// V, F: positive area.
+Eigen::Matrix3d shape_rotation(const MatrixX3d& V, const MatrixX3i& F);
 
 }  // namespace paramorph::morph

@@ -16,6 +16,8 @@
 #include "morph/correspondence_frame.h"
 #include "morph/map_distortion.h"
 #include "morph/flow_sphere_map.h"
+#include "morph/sphere_predicates.h"
+#include "param/spherical/balanced_sphere_map.h"
 #include "param/spherical/map_through_proxy.h"
 #include "param/spherical/relax_sphere_map.h"
 #include "param/spherical/untangle_sphere_map.h"
@@ -56,6 +58,18 @@ void check_pairs(const Pairs& pairs, Index na, Index nb, const char* what) {
 /// model was small enough to be its own proxy), untangled; nothing when
 /// folds remain (the caller decides whether that is an error or a reason to
 /// try another way).
+/// Whether every face of a sphere map turns the right way by the exact
+/// orientation test the overlay applies (a face squeezed to exactly flat by
+/// rounding counts as folded there).
+bool exactly_fold_free(const MatrixX3d& X, const MatrixX3i& F) {
+  const MatrixX3d unit = X.rowwise().normalized();
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = unit.row(F(f, 0)), b = unit.row(F(f, 1)), c = unit.row(F(f, 2));
+    if (orientation(a.data(), b.data(), c.data()) <= 0) return false;
+  }
+  return true;
+}
+
 std::optional<MatrixX3d> read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
                                             const MatrixX3i& proxy_F, const MatrixX3d& proxy_map) {
   const bool own = proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F;
@@ -66,7 +80,24 @@ std::optional<MatrixX3d> read_through_proxy(const MatrixX3d& V, const MatrixX3i&
   // Where the model turns against its proxy (thin tips) the map can keep
   // hair-thin faces spanning a sixth of the sphere: relax them.
   if (!own || untangled.folded_before > 0) spherical::relax_poor_regions(V, F, X, {});
+  if (!exactly_fold_free(X, F)) return std::nullopt;
   return X;
+}
+
+/// A model's map read off its proxy's map; where that keeps folds (a thin
+/// part the proxy simplified away turns against it), the model's own
+/// balanced map, fold-free by construction (issue 28), turned to face the
+/// proxy's map as closely as it can, and a note saying so.
+MatrixX3d model_map(const char* name, const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
+                    const MatrixX3i& proxy_F, const MatrixX3d& proxy_map, std::vector<std::string>& fallbacks,
+                    Progress* progress) {
+  if (std::optional<MatrixX3d> read = read_through_proxy(V, F, proxy_V, proxy_F, proxy_map)) return *read;
+  const MatrixX3d read_folded = spherical::map_through_proxy(V, proxy_V, proxy_F, proxy_map);
+  const MatrixX3d own = spherical::balanced_sphere_map(V, F, {}, progress).positions;
+  fallbacks.push_back(detail::concat("mesh ", name, ": its own sphere map (", F.rows(),
+                                     " faces) instead of its proxy's, which kept folds where the model "
+                                     "turns against the simplified proxy"));
+  return own * best_rotation(own, read_folded);
 }
 
 struct Prepared {
@@ -80,7 +111,17 @@ Prepared prepare(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
   for_mesh("B", [&] { validate_arrays(VB, FB); require_closed_genus0(validate(TriMesh(VB, FB))); return 0; });
   check_pairs(o.pins, VA.rows(), VB.rows(), "pin");
   if (o.pairs) check_pairs(*o.pairs, VA.rows(), VB.rows(), "pair");
-  return {correspondence_frame(VA, FA), correspondence_frame(VB, FB), o.pins};
+  Prepared p{correspondence_frame(VA, FA), correspondence_frame(VB, FB), o.pins};
+  // One turn for both, from A's shape: the same correspondence however the
+  // scene is turned (issue 29), the models' relative placement kept.
+  const Eigen::Matrix3d turn = shape_rotation(p.a.V, p.a.F);
+  // Snapped to a grid of 2^-32 (the models have unit area here): turned
+  // copies of a scene then give the same bits, not numbers a rounding apart
+  // that send a simplification's tie or a tip's peak the other way.
+  auto snap = [](MatrixX3d V) { return MatrixX3d(V.unaryExpr([](double x) { return std::ldexp(std::nearbyint(std::ldexp(x, 32)), -32); })); };
+  p.a.V = snap(p.a.V * turn.transpose());
+  p.b.V = snap(p.b.V * turn.transpose());
+  return p;
 }
 
 CorrespondenceOptions candidate_options(const MorphOptions& o) {
@@ -101,8 +142,47 @@ MorphCorrespondence morph_correspondence(const MatrixX3d& VA, const MatrixX3i& F
   return out;
 }
 
+namespace {
+
+/// The overlay refused the two maps (their thinnest faces nearly coincide).
+struct OverlayRefused : ComputeError {
+  using ComputeError::ComputeError;
+};
+
+Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                 const MorphOptions& o, Progress* progress);
+
+}  // namespace
+
 Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
             const MorphOptions& o, Progress* progress) {
+  try {
+    return morph_once(VA, FA, VB, FB, o, progress);
+  } catch (const OverlayRefused& refused) {
+    // Other proxies give other maps: the same correspondence problem, other
+    // thin faces. Reported in the last stretch so progress only goes forward.
+    MorphOptions finer = o;
+    finer.correspondence.proxy_faces = o.correspondence.proxy_faces * 3 / 2;
+    try {
+      Morph m = run_stage("morph with finer proxies", 0.97, 1.0, progress,
+                          [&](Progress* window) { return morph_once(VA, FA, VB, FB, finer, window); });
+      m.fallbacks.push_back(detail::concat("proxies of ", finer.correspondence.proxy_faces, " faces instead of ",
+                                           o.correspondence.proxy_faces,
+                                           ": the overlay refused the first maps, whose thinnest faces nearly "
+                                           "coincided below what doubles resolve"));
+      return m;
+    } catch (const OverlayRefused& again) {
+      throw ComputeError(detail::concat("the overlay of the two maps failed with proxies of ",
+                                        o.correspondence.proxy_faces, " and ", finer.correspondence.proxy_faces,
+                                        " faces (", again.what(), "): try a few pins or another proxy size"));
+    }
+  }
+}
+
+namespace {
+
+Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                 const MorphOptions& o, Progress* progress) {
   if (progress) progress->report(0.0, "morph");
   const auto started = std::chrono::steady_clock::now();
   const Prepared p = prepare(VA, FA, VB, FB, o);
@@ -129,9 +209,9 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     clock = std::chrono::steady_clock::now();
   };
   m.sphere_a = for_mesh("A", [&] {
-    const std::optional<MatrixX3d> read = read_through_proxy(p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a);
-    PM_REQUIRE(read, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
-    return *read;
+    return run_stage("sphere map of A", 0.7, 0.75, progress, [&](Progress* window) {
+      return model_map("A", p.a.V, p.a.F, c.proxy_a, c.proxy_faces_a, c.map_a, m.fallbacks, window);
+    });
   });
   if (progress) progress->report(0.75, "sphere map of B");
   std::optional<MatrixX3d> own_b;  // B's own map, read only if a short flow stalls
@@ -172,9 +252,9 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     }
     if (carried.reached < 1) {
       if (!own_b) own_b = for_mesh("B", [&] {
-        const std::optional<MatrixX3d> own = read_through_proxy(p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b);
-        PM_REQUIRE(own, ComputeError, "its map keeps folds where the model turns against its simplified proxy");
-        return *own;
+        return run_stage("sphere map of B", lo, mid, progress, [&](Progress* window) {
+          return model_map("B", p.b.V, p.b.F, c.proxy_b, c.proxy_faces_b, c.map_b, m.fallbacks, window);
+        });
       });
       const Index shaped = real.shape_a.rows();
       MatrixX3d all_from(count + shaped, 3), all_to(count + shaped, 3);
@@ -186,6 +266,13 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
       carried = run_stage("carrying B's map", mid, hi, progress, [&](Progress* window) {
         return flow_sphere_map(p.b.F, *own_b * turn, all_from * turn, all_to, riders, flow, ProgressWindow(window));
       });
+    }
+    if (carried.reached >= 1) {
+      // The pinned vertices sit exactly on their partners; a face squeezed
+      // flat by rounding there would stop the overlay: the next candidate.
+      MatrixX3d placed = carried.positions;
+      for (Index k = 0; k < count; ++k) placed.row(held[std::size_t(k)][1]) = m.sphere_a.row(held[std::size_t(k)][0]);
+      if (!exactly_fold_free(placed, p.b.F)) carried.reached = 0.99;
     }
     if (carried.reached < 1) {
       std::vector<Index> named;
@@ -212,9 +299,16 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   mark("sphere maps of the models");
 
   // 4. Overlay, 5. positions on both meshes as placed.
-  m.merged = run_stage("overlay", 0.85, 0.97, progress, [&](Progress* window) {
-    return overlay(m.sphere_a, p.a.F, m.sphere_b, p.b.F, o.overlay, window);
-  });
+  try {
+    m.merged = run_stage("overlay", 0.85, 0.97, progress, [&](Progress* window) {
+      return overlay(m.sphere_a, p.a.F, m.sphere_b, p.b.F, o.overlay, window);
+    });
+  } catch (const InvalidInputError& refused) {
+    // Both maps are fold-free here: the overlay refuses only maps whose
+    // thinnest faces nearly coincide below what doubles resolve (a dancer's
+    // fingers into a cat: altitude 4e-7 rad). morph() tries other proxies.
+    throw OverlayRefused(refused.what());
+  }
   mark("overlay");
   m.source = positions_on(VA, p.a.F, m.merged.face_a, m.merged.bary_a);
   m.target = positions_on(VB, p.b.F, m.merged.face_b, m.merged.bary_b);
@@ -232,6 +326,8 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
   if (progress) progress->report(1.0, "morph");
   return m;
 }
+
+}  // namespace
 
 Eigen::MatrixXd carry_corner_values(const Morph& morph, int side, const Eigen::MatrixXd& values) {
   PM_REQUIRE(side == 0 || side == 1, InvalidInputError, "side is 0 (A) or 1 (B), got ", side);

@@ -74,6 +74,10 @@ struct Morph {
   double distortion = 0;
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
   WeldStats weld;  ///< what welding the merged mesh did (faces before and after, slivers)
+  /// What the morph fell back on, in words for a report (e.g. a model's own
+  /// sphere map where its proxy's could not be read without folds); empty
+  /// when everything went the first way.
+  std::vector<std::string> fallbacks;
 };
 
 /// VA, FA / VB, FB: closed genus-0 meshes (the MeshError subclasses

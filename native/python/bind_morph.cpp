@@ -424,6 +424,8 @@ void def_morph(py::module_& m) {
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
       .def_readonly("timings", &Morph::timings)
       .def_readonly("weld", &Morph::weld, "WeldStats: faces before and after, edges collapsed and flipped, slivers")
+      .def_readonly("fallbacks", &Morph::fallbacks,
+                    "what the morph fell back on, in words for a report (empty: everything went the first way)")
       .def(
           "carry",
           [](const Morph& r, int side, const py::object& values) {
@@ -479,7 +481,8 @@ most weld_tolerance; 0: off; morph.weld says what it did).
 
 Returns Morph: faces, sphere, source (A as placed), target (B as placed),
 vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, candidates,
-chosen, distortion, inside_out_a/b, sphere_a/b, timings, weld, carry(side, values).
+chosen, distortion, inside_out_a/b, sphere_a/b, timings, weld, fallbacks (what it fell back on,
+in words: a model's own sphere map where its proxy's keeps folds), carry(side, values).
 Errors name the mesh ("mesh A: ..."), keep their MeshError type; pins out of
 range: InvalidInputError; a vertex pinned twice or mirrored pins:
 ConstraintError naming them; Cancelled.)doc");
