@@ -106,6 +106,11 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
       return features::segment_extremities(side.V, side.F, extremity, p);
     });
     side.tips = features::extremity_tips(side.V, side.F, *side.extremities, o.tip_prominence);
+    if (side.tips.vertices.size() > o.max_tips) {  // farthest first: keep the first
+      side.tips.vertices.resize(o.max_tips);
+      side.tips.regions.resize(o.max_tips);
+      side.tips.lengths.resize(o.max_tips);
+    }
   } catch (const ComputeError& e) {
     side.tips_note = std::string("no conformal map of the proxy: ") + e.what();
     return side;
@@ -370,11 +375,11 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
 Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
                               const Pairs& pins, const std::optional<Pairs>& given, const CorrespondenceOptions& o,
                               Progress* progress) {
-  PM_REQUIRE(o.proxy_faces >= 100 && std::isfinite(o.tip_angle) && o.tip_angle > 0 &&
+  PM_REQUIRE(o.proxy_faces >= 100 && o.max_tips >= 1 && std::isfinite(o.tip_angle) && o.tip_angle > 0 &&
                  std::isfinite(o.registered_tip_distance) && o.registered_tip_distance > 0 &&
                  std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0,
              InvalidInputError,
-             "proxy_faces >= 100, tip_angle and registered_tip_distance > 0, pin_radius and fallbacks >= 0");
+             "proxy_faces >= 100, max_tips >= 1, tip_angle and registered_tip_distance > 0, pin_radius and fallbacks >= 0");
   Correspondence out;
   auto clock = std::chrono::steady_clock::now();
   auto mark = [&](const char* stage) {

@@ -67,6 +67,10 @@ struct CorrespondenceOptions {
   /// the correspondence frame: the model scaled to unit area): a cow's horns
   /// and muzzle are tips of one head.
   double tip_prominence = 0.04;
+  /// The farthest tips kept per model: a scan's bumps made 62 tips on one
+  /// cow, and pairing every two of them with every two of the other's took
+  /// a minute (issue 29); limbs, head, tail and horns are fewer.
+  std::size_t max_tips = 12;
   double tip_angle = 0.8;       ///< radians: tips farther apart under a candidate rotation are not paired
   /// Tips, and registration samples, farther from their closest partner
   /// than this after a registration are not paired (units of the
