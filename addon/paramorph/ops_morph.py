@@ -547,7 +547,7 @@ def keep_report(source, target, outcome, previewed=False, repaired=()):
     chosen = result.candidates[result.chosen]
     how = "previewed pairs" if previewed else "chosen"
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
-    notes = inside_out_note(result, source, target) + list(repaired)
+    notes = inside_out_note(result, source, target) + list(repaired) + fallback_notes(result, source, target)
     keys = len(outcome.shapes) + 1
     last_morph = {"object": source.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes,
                   "hausdorff": share}
@@ -563,6 +563,17 @@ def keep_report(source, target, outcome, previewed=False, repaired=()):
     return line, coarse
 
 
+def fallback_notes(result, source, target):
+    """What the morph fell back on (Morph.fallbacks), with the objects' names
+    for "mesh A" and "mesh B"."""
+    names = {"mesh A:": f"{source.name}:", "mesh B:": f"{target.name}:"}
+    notes = []
+    for note in getattr(result, "fallbacks", ()):
+        head = note[:7]
+        notes.append(names[head] + note[7:] if head in names else note)
+    return notes
+
+
 def morph_report(obj, result, source, target, previewed=False, input_faces=0, repaired=()):
     """Morph To's one-line report: the merged faces against the inputs', the chosen
     candidate, what holds exactly, inside-out files, time."""
@@ -573,7 +584,7 @@ def morph_report(obj, result, source, target, previewed=False, input_faces=0, re
     how = "previewed pairs" if previewed else "chosen"
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
     seconds = result.timings[-1][1] if result.timings else 0.0
-    notes = inside_out_note(result, source, target) + list(repaired)
+    notes = inside_out_note(result, source, target) + list(repaired) + fallback_notes(result, source, target)
     last_morph = {"object": obj.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes}
     size = f" ({len(result.faces) / input_faces:.1f}x the inputs' {input_faces})" if input_faces else ""
     welded = result.weld.collapsed_edges
