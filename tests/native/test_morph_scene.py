@@ -1,0 +1,113 @@
+"""The morph on real characters however the scene is turned, and its
+fallbacks (issue 29): the same correspondence for a common rotation, scale
+and shift of both meshes; a proxy whose map cannot be read onto the model
+falls back to the model's own map and says so. Real pairs from
+../shared/models run when the folder is there."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import meshes
+import paramorph_native as pm
+import quadrupeds as Q
+from quadrupeds import folded_faces, landmark_vertices
+
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
+
+
+def rotation(axis, degrees):
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    a = np.radians(degrees)
+    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
+
+
+# (rotation, uniform scale, shift) applied to both meshes: a y-up file in a
+# z-up scene, a turn about the vertical, and arbitrary ones scaled and moved.
+TURNS = [(rotation([1, 0, 0], 90), 1.0, np.zeros(3)),
+         (rotation([0, 1, 0], 60), 1.0, np.zeros(3)),
+         (rotation([0, 0, 1], 135), 2.5, np.array([3.0, -1.0, 2.0])),
+         (rotation([0.3, 0.8, -0.5], 77), 0.01, np.array([0.1, 0.2, 0.3]))]
+
+
+def landed(morph, LA):
+    return np.asarray(morph.target)[np.asarray(morph.vertex_of_a)[LA]]
+
+
+def turned_answers(VA, FA, VB, FB, LA, turns):
+    """Where A's landmarks land on B as placed and under each turn (turned
+    back), and the morphs."""
+    out = []
+    for R, scale, shift in [(np.eye(3), 1.0, np.zeros(3))] + turns:
+        m = pm.morph(VA @ R.T * scale + shift, FA, VB @ R.T * scale + shift, FB)
+        assert folded_faces(m) == 0
+        out.append((((landed(m, LA) - shift) / scale) @ R, m))
+    return out
+
+
+def test_turning_the_scene_turns_the_answer_with_it():
+    VA, FA, LA = Q.quadruped("cow", 3000, seed=1)
+    VB, FB, LB = Q.quadruped("horse", 6000, pose=Q.WALK, seed=2)
+    answers = turned_answers(VA, FA, VB, FB, landmark_vertices(LA), TURNS[:3])
+    diagonal = np.linalg.norm(np.ptp(VB, axis=0))
+    placed = answers[0][0]
+    for points, m in answers[1:]:
+        moved = np.linalg.norm(points - placed, axis=1).max() / diagonal
+        assert moved < 0.005, f"a landmark moved {100 * moved:.2f} % of the diagonal with the scene"
+        assert m.candidates[m.chosen].kind == answers[0][1].candidates[answers[0][1].chosen].kind
+
+
+def test_a_proxy_that_cannot_be_read_onto_the_model_falls_back_to_its_own_map():
+    # A coiled tube's 300-face proxy cuts across its turns: read back onto
+    # the tube, its map keeps folds.
+    VA, FA = meshes.coiled_tube()
+    VB, FB = meshes.star(6, 20.0, 3)
+    m = pm.morph(VA, FA, VB, FB, proxy_faces=300)
+    assert any(note.startswith("mesh A: its own sphere map") for note in m.fallbacks), m.fallbacks
+    assert folded_faces(m) == 0
+    # Every vertex of both inputs is in the merged mesh.
+    assert len(np.unique(np.asarray(m.vertex_of_a))) == len(VA)
+    assert len(np.unique(np.asarray(m.vertex_of_b))) == len(VB)
+
+
+def test_no_fallback_is_reported_where_none_was_needed():
+    VA, FA, _ = Q.quadruped("cow", 3000, seed=1)
+    VB, FB, _ = Q.quadruped("horse", 4000, seed=3)
+    assert list(pm.morph(VA, FA, VB, FB).fallbacks) == []
+
+
+def load(name):
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    from common import load_obj
+    return load_obj(MODELS / f"{name}.obj")
+
+
+needs_models = pytest.mark.skipif(not (MODELS / "landmarks.json").exists(), reason="no ../shared/models")
+
+
+@needs_models
+def test_real_cat_into_lion_the_same_however_turned_and_every_landmark_nearest_its_own():
+    marks = json.loads((MODELS / "landmarks.json").read_text())
+    (VA, FA), (VB, FB) = load("cat"), load("lion")
+    names = list(marks["cat.obj"])
+    LA = np.array([marks["cat.obj"][n] for n in names])
+    LB = np.array([marks["lion.obj"][n] for n in names])
+    answers = turned_answers(VA, FA, VB, FB, LA, [TURNS[0], TURNS[3]])
+    diagonal = np.linalg.norm(np.ptp(VB, axis=0))
+    for points, _ in answers:
+        distances = np.linalg.norm(points[:, None] - VB[LB][None], axis=2) / diagonal
+        assert (np.argmin(distances, axis=1) == np.arange(len(LB))).all()
+        assert np.diag(distances).mean() < 0.05 and np.diag(distances).max() < 0.10
+        assert np.linalg.norm(points - answers[0][0], axis=1).max() / diagonal < 0.005
+
+
+@needs_models
+@pytest.mark.parametrize("a, b", [("dancer", "cat"), ("horned-cow", "samba"), ("samba", "dancer")])
+def test_real_characters_morph_without_error(a, b):
+    (VA, FA), (VB, FB) = load(a), load(b)
+    m = pm.morph(VA, FA, VB, FB)
+    assert folded_faces(m) == 0
+    assert len(np.unique(np.asarray(m.vertex_of_a))) == len(VA)
