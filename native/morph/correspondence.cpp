@@ -14,6 +14,7 @@
 
 #include "common/best_rotation.h"
 #include "common/errors.h"
+#include "features/min_cost_assignment.h"
 #include "mesh/closest_points.h"
 #include "mesh/edge_path_distances.h"
 #include "mesh/gaussian_curvature.h"
@@ -259,9 +260,51 @@ std::string degrees(double radians) {
 
 /// Every candidate (DESIGN: none, extremities, registration, features), or
 /// the one "given" candidate.
+/// With three or more pins the tips can pair by where they are relative to
+/// them: each tip's distances along the surface to the pins, as a unit
+/// vector (proportions, not lengths: a cat's long tail and a cow's short
+/// one are both far from the front hooves and near the hind ones). Tips
+/// assigned at least cost (min_cost_assignment) and close enough pair;
+/// tips beside a pin (the pinned hooves themselves) do not.
+Pairs tips_by_pin_distances(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
+                            const Pairs& pins, const CorrespondenceOptions& o) {
+  // Units of the frame (unit area): a pinned hoof's own tip and its
+  // neighbours are this close to the pin.
+  constexpr double kBesidePin = 0.15;
+  const Index k = Index(pins.size());
+  auto descriptors = [&](const Side& side, const MatrixX3d& model, int column, VectorXd& nearest_pin) {
+    const TriMesh mesh(side.V, side.F);
+    const Index tips = Index(side.tips.vertices.size());
+    Eigen::MatrixXd D(tips, k);
+    for (Index j = 0; j < k; ++j) {
+      Index at;
+      (side.V.rowwise() - model.row(pins[std::size_t(j)][std::size_t(column)])).rowwise().squaredNorm().minCoeff(&at);
+      const VectorXd d = edge_path_distances(mesh, {at});
+      for (Index t = 0; t < tips; ++t) D(t, j) = d[side.tips.vertices[std::size_t(t)]];
+    }
+    nearest_pin = D.rowwise().minCoeff();
+    for (Index t = 0; t < tips; ++t) D.row(t) /= std::max(D.row(t).norm(), 1e-300);
+    return D;
+  };
+  VectorXd near_a, near_b;
+  const Eigen::MatrixXd da = descriptors(A, VA, 0, near_a), db = descriptors(B, VB, 1, near_b);
+  Eigen::MatrixXd cost(da.rows(), db.rows());
+  for (Index i = 0; i < da.rows(); ++i)
+    for (Index j = 0; j < db.rows(); ++j) cost(i, j) = (da.row(i) - db.row(j)).norm();
+  Pairs out;
+  if (!cost.allFinite()) return out;  // a pin apart from a tip along no path: nothing to say
+  const std::vector<Index> assigned = features::min_cost_assignment(cost);
+  for (Index i = 0; i < da.rows(); ++i) {
+    const Index j = assigned[std::size_t(i)];
+    if (j >= 0 && cost(i, j) < o.pin_distance_match && near_a[i] > kBesidePin && near_b[j] > kBesidePin)
+      out.push_back({A.tips.vertices[std::size_t(i)], B.tips.vertices[std::size_t(j)]});
+  }
+  return out;
+}
+
 std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
-                                 const std::optional<Pairs>& given, const CorrespondenceOptions& o,
-                                 Progress* progress) {
+                                 const Pairs& pins, const std::optional<Pairs>& given,
+                                 const CorrespondenceOptions& o, Progress* progress) {
   std::vector<Raw> raw;
   if (given) {
     Pairs proxy;
@@ -291,6 +334,12 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
                    std::to_string(B.tips.vertices.size()) + " tips paired, " + degrees(assignment.mean_angle) + " apart";
         raw.push_back(std::move(r));
       }
+    }
+    if (o.extremities && pins.size() >= 3 && !A.tips.vertices.empty() && !B.tips.vertices.empty()) {
+      Raw r{"pin distances", "", tips_by_pin_distances(A, B, VA, VB, pins, o), Eigen::Matrix3d::Identity(), {}};
+      r.detail = std::to_string(r.pairs.size()) + " tips paired by their distances along the surface to the " +
+                 std::to_string(pins.size()) + " pins";
+      if (!r.pairs.empty()) raw.push_back(std::move(r));
     }
     if (progress) progress->report(0.82, "correspondence candidates");
     if (o.registration) {
@@ -402,7 +451,7 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
     const PinOrder order = points_order(pin_points);
     PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
   }
-  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, given, o, progress);
+  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, o, progress);
   mark("candidates");
 
   // A proxy pair within pin_radius of a pin on either model.

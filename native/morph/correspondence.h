@@ -71,6 +71,9 @@ struct CorrespondenceOptions {
   /// cow, and pairing every two of them with every two of the other's took
   /// a minute (issue 29); limbs, head, tail and horns are fewer.
   std::size_t max_tips = 12;
+  /// With 3+ pins: tips whose distances to the pins (as unit vectors) are
+  /// closer than this pair (tips_by_pin_distances).
+  double pin_distance_match = 0.08;
   double tip_angle = 0.8;       ///< radians: tips farther apart under a candidate rotation are not paired
   /// Tips, and registration samples, farther from their closest partner
   /// than this after a registration are not paired (units of the

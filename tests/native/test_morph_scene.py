@@ -111,3 +111,16 @@ def test_real_characters_morph_without_error(a, b):
     m = pm.morph(VA, FA, VB, FB)
     assert folded_faces(m) == 0
     assert len(np.unique(np.asarray(m.vertex_of_a))) == len(VA)
+
+
+def test_with_three_or_more_pins_tips_pair_by_their_distances_to_the_pins():
+    VA, FA, LA = Q.quadruped("cow", 3000, seed=1)
+    VB, FB, LB = Q.quadruped("horse", 6000, pose=Q.WALK, seed=2)
+    la, lb = landmark_vertices(LA), landmark_vertices(LB)
+    hooves = np.stack([la[:4], lb[:4]], axis=1)
+    by_pins = [c for c in pm.morph_correspondence(VA, FA, VB, FB, pins=hooves).candidates
+               if c.kind == "pin distances"]
+    # Muzzle, tail and a horn or ear: far from every hoof, they pair.
+    assert len(by_pins) == 1 and len(by_pins[0].proxy_pairs) >= 2 and np.isfinite(by_pins[0].score)
+    two = pm.morph_correspondence(VA, FA, VB, FB, pins=hooves[:2]).candidates
+    assert not any(c.kind == "pin distances" for c in two)
