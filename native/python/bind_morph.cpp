@@ -464,10 +464,12 @@ void def_morph(py::module_& m) {
       R"doc(Morph of closed genus-0 mesh A into B (thesis ch. 4; issue 16).
 
 Both models are turned outward when their files are inside-out, centred and
-scaled for the correspondence. On proxies of about `proxy_faces` faces with
+scaled for the correspondence, and both turned by one rotation taken from A's
+shape (a common turn, scale or shift of the scene gives the same answer). On proxies of about `proxy_faces` faces with
 balanced (isometric) sphere maps, candidate correspondences are scored by the
 distortion they make, no ground truth needed: none (the models as placed),
-pairings of extremity tips (segment_extremities), 3D registrations from the
+pairings of extremity tips (segment_extremities), with 3+ pins tips paired by
+their distances to the pins, 3D registrations from the
 principal axes, the thesis' feature points (match_features); the lowest
 wins, so automatic pairs are used only when they beat no pairs
 (automatic=False: the pins and any given pairs alone). pins: (k, 2) (vertex of A, vertex of B),
