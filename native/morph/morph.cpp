@@ -109,6 +109,7 @@ Prepared prepare(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
                  const MorphOptions& o) {
   for_mesh("A", [&] { validate_arrays(VA, FA); require_closed_genus0(validate(TriMesh(VA, FA))); return 0; });
   for_mesh("B", [&] { validate_arrays(VB, FB); require_closed_genus0(validate(TriMesh(VB, FB))); return 0; });
+  check_overlay_options(o.overlay);  // an InvalidInputError of the overlay is then about the maps
   check_pairs(o.pins, VA.rows(), VB.rows(), "pin");
   if (o.pairs) check_pairs(*o.pairs, VA.rows(), VB.rows(), "pair");
   Prepared p{correspondence_frame(VA, FA), correspondence_frame(VB, FB), o.pins};

@@ -356,13 +356,17 @@ double spherical_triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 2.0 * std::atan2(det, 1.0 + a.dot(b) + b.dot(c) + c.dot(a));
 }
 
-MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const MatrixX3d& sphere_b,
-                       const MatrixX3i& FB, const OverlayOptions& options, Progress* progress) {
-  const auto started = Clock::now();
+void check_overlay_options(const OverlayOptions& options) {
   PM_REQUIRE(std::isfinite(options.merge_tolerance) && options.merge_tolerance >= 0 &&
                  options.merge_tolerance < 1e-3,
              InvalidInputError, "merge_tolerance is an angle in radians in [0, 1e-3), got ",
              options.merge_tolerance);
+}
+
+MergedTopology overlay(const MatrixX3d& sphere_a, const MatrixX3i& FA, const MatrixX3d& sphere_b,
+                       const MatrixX3i& FB, const OverlayOptions& options, Progress* progress) {
+  const auto started = Clock::now();
+  check_overlay_options(options);
   MergedTopology out;
   OverlayStats& stats = out.stats;
   if (progress) progress->report(0.0, "overlay");

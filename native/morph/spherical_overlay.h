@@ -105,6 +105,10 @@ struct MergedTopology {
 /// sliver, which the overlay removes by merging two of its corners.
 constexpr double kMinAltitudeInTolerances = 0.5;
 
+/// InvalidInputError for options overlay() would refuse (so a caller can
+/// refuse them before its own long work).
+void check_overlay_options(const OverlayOptions& options);
+
 /// sphere_a: #VA by 3 unit vectors (|v| within 1e-9 of 1, renormalised);
 /// FA: #FA by 3 faces of a closed genus-0 mesh, every face positively
 /// oriented (det(a, b, c) > 0, exact), the map covering the sphere once. The

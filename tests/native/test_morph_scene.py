@@ -124,3 +124,11 @@ def test_with_three_or_more_pins_tips_pair_by_their_distances_to_the_pins():
     assert len(by_pins) == 1 and len(by_pins[0].proxy_pairs) >= 2 and np.isfinite(by_pins[0].score)
     two = pm.morph_correspondence(VA, FA, VB, FB, pins=hooves[:2]).candidates
     assert not any(c.kind == "pin distances" for c in two)
+
+
+@pytest.mark.parametrize("tolerance", [-5.0, 1e300, float("nan")])
+def test_a_bad_overlay_option_is_refused_up_front_as_invalid_input(tolerance):
+    # Not a ComputeError from the finer-proxy retry (fuzz seed 2 found it).
+    V, F = meshes.icosphere(1)
+    with pytest.raises(pm.InvalidInputError, match="merge_tolerance"):
+        pm.morph(V, F, V, F, merge_tolerance=tolerance)
