@@ -2,7 +2,34 @@
 #include "morph/ipopt_polish.h"
 #include "python/bindings.h"
 
+#include <cstdlib>
+#include <string>
+
+#define PARAMORPH_STR2(x) #x
+#define PARAMORPH_STR(x) PARAMORPH_STR2(x)
+#define PYBIND11_VERSION_STRING_FOR_ERRORS PARAMORPH_STR(PYBIND11_VERSION_MAJOR) "." PARAMORPH_STR(PYBIND11_VERSION_MINOR)
+
+namespace {
+
+/// pybind11 before 2.12 reads NumPy 2's array descriptors with NumPy 1's
+/// layout: with NumPy 2.4 every int32 array the module returns came back
+/// as zeros (a morph's vertex_of_a) and landmarks landed 48 % of the
+/// diagonal off, without an error. Refuse to load rather than answer wrong.
+void require_numpy_this_build_reads() {
+#if PYBIND11_VERSION_HEX < 0x020C0000
+  const std::string version = pybind11::module_::import("numpy").attr("__version__").cast<std::string>();
+  const int major = std::atoi(version.c_str());
+  if (major >= 2)
+    throw pybind11::import_error("paramorph_native was built with pybind11 " PYBIND11_VERSION_STRING_FOR_ERRORS
+                                 ", which reads NumPy 2 arrays wrongly, and this Python has NumPy " +
+                                 version + ": use NumPy < 2, or rebuild with pybind11 >= 2.12");
+#endif
+}
+
+}  // namespace
+
 PYBIND11_MODULE(paramorph_native, m) {
+  require_numpy_this_build_reads();
   m.doc() =
       "paramorph native core: mesh validation, OpenCL devices, spherical and planar "
       "parameterization, feature measures and matching, feature cut-and-paste";
