@@ -440,3 +440,28 @@ def test_morph_needs_two_meshes_and_a_cancelled_run_adds_nothing(monkeypatch):
     assert bpy.ops.paramorph.preview_matches() == {"CANCELLED"}
     assert set(bpy.data.objects) == objects_before
     assert len(bpy.context.scene.paramorph_matches.candidates) == 0
+
+
+MODELS = __import__("pathlib").Path(__file__).resolve().parents[3] / "shared" / "models"
+
+
+@pytest.mark.skipif(not (MODELS / "samba.obj").exists() or not (MODELS / "dancer.obj").exists(),
+                    reason="no ../shared/models")
+def test_morph_to_between_two_real_people_stood_side_by_side_works_both_ways(capfd):
+    # Issue 29: a woman in a skirt and a dancer (20k and 14k faces), as an
+    # artist imports them; before, Morph To failed both ways blaming OpenCL.
+    people = []
+    for name in ("samba", "dancer"):
+        before = set(bpy.data.objects)
+        bpy.ops.wm.obj_import(filepath=str(MODELS / f"{name}.obj"))
+        (person,) = set(bpy.data.objects) - before
+        people.append(person)
+    people[1].location.x += 2 * max(people[0].dimensions)
+    for source, target in (people, people[::-1]):
+        select_pair(source, target)
+        objects_before = set(bpy.data.objects)
+        status, report = run_reported(capfd, bpy.ops.paramorph.morph_to, topology="MERGED")
+        assert status == {"FINISHED"}, report
+        assert "OpenCL" not in report and f"Morph To: {source.name} to {target.name}" in report, report
+        (morph,) = set(bpy.data.objects) - objects_before
+        assert len(morph.data.vertices) >= len(source.data.vertices)
