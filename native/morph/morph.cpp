@@ -54,10 +54,6 @@ void check_pairs(const Pairs& pairs, Index na, Index nb, const char* what) {
   }
 }
 
-/// A model's map read off its proxy's map (the proxy's map itself when the
-/// model was small enough to be its own proxy), untangled; nothing when
-/// folds remain (the caller decides whether that is an error or a reason to
-/// try another way).
 /// Whether every face of a sphere map turns the right way by the exact
 /// orientation test the overlay applies (a face squeezed to exactly flat by
 /// rounding counts as folded there).
@@ -70,6 +66,10 @@ bool exactly_fold_free(const MatrixX3d& X, const MatrixX3i& F) {
   return true;
 }
 
+/// A model's map read off its proxy's map (the proxy's map itself when the
+/// model was small enough to be its own proxy), untangled; nothing when
+/// folds remain (the caller decides whether that is an error or a reason to
+/// try another way).
 std::optional<MatrixX3d> read_through_proxy(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
                                             const MatrixX3i& proxy_F, const MatrixX3d& proxy_map) {
   const bool own = proxy_V.rows() == V.rows() && proxy_F.rows() == F.rows() && proxy_F == F;
@@ -161,7 +161,8 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     return morph_once(VA, FA, VB, FB, o, progress);
   } catch (const OverlayRefused& refused) {
     // Other proxies give other maps: the same correspondence problem, other
-    // thin faces. Reported in the last stretch so progress only goes forward.
+    // thin faces. The redo reports in the last stretch (0.97 to 1) so
+    // progress never goes back; Esc still stops it.
     MorphOptions finer = o;
     finer.correspondence.proxy_faces = o.correspondence.proxy_faces * 3 / 2;
     try {
@@ -268,18 +269,20 @@ Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
         return flow_sphere_map(p.b.F, *own_b * turn, all_from * turn, all_to, riders, flow, ProgressWindow(window));
       });
     }
+    bool squeezed = false;
     if (carried.reached >= 1) {
       // The pinned vertices sit exactly on their partners; a face squeezed
       // flat by rounding there would stop the overlay: the next candidate.
       MatrixX3d placed = carried.positions;
       for (Index k = 0; k < count; ++k) placed.row(held[std::size_t(k)][1]) = m.sphere_a.row(held[std::size_t(k)][0]);
-      if (!exactly_fold_free(placed, p.b.F)) carried.reached = 0.99;
+      squeezed = !exactly_fold_free(placed, p.b.F);
     }
-    if (carried.reached < 1) {
+    if (carried.reached < 1 || squeezed) {
       std::vector<Index> named;
       for (const Index j : carried.blocking)
         if (j < Index(p.pins.size())) named.push_back(j);
-      const std::string why = detail::concat(
+      const std::string why = squeezed ? std::string("its map squeezes a face flat where its pins and pairs sit on "
+                                                     "their partners") : detail::concat(
           "its pins and pairs cannot all be met on the model without folding its map (stalled ",
           int(100 * carried.reached), "% of the way", named.empty() ? std::string() : ", near pins " + format_indices(named),
           ")");
