@@ -7,13 +7,13 @@
 #include <set>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
 #include "common/best_rotation.h"
 #include "common/errors.h"
+#include "common/principal_axes.h"
 #include "features/min_cost_assignment.h"
 #include "mesh/closest_points.h"
 #include "mesh/edge_path_distances.h"
@@ -158,18 +158,6 @@ Index model_vertex(const Side& side, Index proxy_vertex) {
   return nearest;
 }
 
-/// Principal axes (columns, largest variance first) of a proxy, area-weighted, det +1.
-Eigen::Matrix3d principal_axes(const Side& side) {
-  const VectorXd w = side.area / side.area.sum();
-  const Eigen::RowVector3d mean = w.transpose() * side.V;
-  const MatrixX3d centred = side.V.rowwise() - mean;
-  const Eigen::Matrix3d covariance = centred.transpose() * w.asDiagonal() * centred;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  Eigen::Matrix3d axes = eigen.eigenvectors().rowwise().reverse();
-  if (axes.determinant() < 0) axes.col(2) *= -1;
-  return axes;
-}
-
 /// The points a candidate's map must bring together: on A's map and on B's.
 struct PairPoints {
   std::vector<Eigen::RowVector3d> a, b;
@@ -258,8 +246,6 @@ std::string degrees(double radians) {
   return out.str();
 }
 
-/// Every candidate (DESIGN: none, extremities, registration, features), or
-/// the one "given" candidate.
 /// With three or more pins the tips can pair by where they are relative to
 /// them: each tip's distances along the surface to the pins, as a unit
 /// vector (proportions, not lengths: a cat's long tail and a cow's short
@@ -302,6 +288,8 @@ Pairs tips_by_pin_distances(const Side& A, const Side& B, const MatrixX3d& VA, c
   return out;
 }
 
+/// Every candidate (DESIGN: none, extremities, registration, features), or
+/// the one "given" candidate.
 std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
                                  const Pairs& pins, const std::optional<Pairs>& given,
                                  const CorrespondenceOptions& o, Progress* progress) {
@@ -343,7 +331,8 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
     }
     if (progress) progress->report(0.82, "correspondence candidates");
     if (o.registration) {
-      const Eigen::Matrix3d axes_a = principal_axes(A), axes_b = principal_axes(B);
+      // Principal axes of the proxies, area-weighted.
+      const Eigen::Matrix3d axes_a = principal_axes(A.V, A.area).axes, axes_b = principal_axes(B.V, B.area).axes;
       struct Start {
         std::string detail;
         Eigen::Matrix3d rotation;  // column vectors: x_A = R x_B

@@ -2,10 +2,10 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "common/errors.h"
+#include "common/principal_axes.h"
 #include "mesh/signed_volume.h"
 
 namespace paramorph::morph {
@@ -42,15 +42,13 @@ Eigen::Matrix3d shape_rotation(const MatrixX3d& V, const MatrixX3i& F) {
   }
   const double total = area.sum();
   PM_REQUIRE(total > 0 && std::isfinite(total), InvalidInputError, "the mesh has no area");
-  const Eigen::RowVector3d mean = area.transpose() * centroid / total;
-  const MatrixX3d centred = centroid.rowwise() - mean;
-  const Eigen::Matrix3d covariance = centred.transpose() * area.asDiagonal() * centred / total;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  Eigen::Matrix3d axes = eigen.eigenvectors().rowwise().reverse();  // columns, largest spread first
+  const PrincipalAxes principal = principal_axes(centroid, area);
+  Eigen::Matrix3d axes = principal.axes;
+  const MatrixX3d centred = centroid.rowwise() - principal.mean;
   Eigen::Vector3d skew;
   for (int k = 0; k < 3; ++k) {
     const VectorXd along = centred * axes.col(k);
-    const double spread = std::sqrt(std::max(eigen.eigenvalues()[2 - k], 1e-300));
+    const double spread = std::sqrt(std::max(principal.variances[k], 1e-300));
     skew[k] = area.dot(along.array().cube().matrix()) / total / (spread * spread * spread);
   }
   // The two most skewed axes get positive skew; the third follows (det +1).

@@ -151,39 +151,6 @@ struct OverlayRefused : ComputeError {
 };
 
 Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
-                 const MorphOptions& o, Progress* progress);
-
-}  // namespace
-
-Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
-            const MorphOptions& o, Progress* progress) {
-  try {
-    return morph_once(VA, FA, VB, FB, o, progress);
-  } catch (const OverlayRefused& refused) {
-    // Other proxies give other maps: the same correspondence problem, other
-    // thin faces. The redo reports in the last stretch (0.97 to 1) so
-    // progress never goes back; Esc still stops it.
-    MorphOptions finer = o;
-    finer.correspondence.proxy_faces = o.correspondence.proxy_faces * 3 / 2;
-    try {
-      Morph m = run_stage("morph with finer proxies", 0.97, 1.0, progress,
-                          [&](Progress* window) { return morph_once(VA, FA, VB, FB, finer, window); });
-      m.fallbacks.push_back(detail::concat("proxies of ", finer.correspondence.proxy_faces, " faces instead of ",
-                                           o.correspondence.proxy_faces,
-                                           ": the overlay refused the first maps, whose thinnest faces nearly "
-                                           "coincided below what doubles resolve"));
-      return m;
-    } catch (const OverlayRefused& again) {
-      throw ComputeError(detail::concat("the overlay of the two maps failed with proxies of ",
-                                        o.correspondence.proxy_faces, " and ", finer.correspondence.proxy_faces,
-                                        " faces (", again.what(), "): try a few pins or another proxy size"));
-    }
-  }
-}
-
-namespace {
-
-Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
                  const MorphOptions& o, Progress* progress) {
   if (progress) progress->report(0.0, "morph");
   const auto started = std::chrono::steady_clock::now();
@@ -332,6 +299,32 @@ Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
 }
 
 }  // namespace
+
+Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+            const MorphOptions& o, Progress* progress) {
+  try {
+    return morph_once(VA, FA, VB, FB, o, progress);
+  } catch (const OverlayRefused& refused) {
+    // Other proxies give other maps: the same correspondence problem, other
+    // thin faces. The redo reports in the last stretch (0.97 to 1) so
+    // progress never goes back; Esc still stops it.
+    MorphOptions finer = o;
+    finer.correspondence.proxy_faces = o.correspondence.proxy_faces * 3 / 2;
+    try {
+      Morph m = run_stage("morph with finer proxies", 0.97, 1.0, progress,
+                          [&](Progress* window) { return morph_once(VA, FA, VB, FB, finer, window); });
+      m.fallbacks.push_back(detail::concat("proxies of ", finer.correspondence.proxy_faces, " faces instead of ",
+                                           o.correspondence.proxy_faces,
+                                           ": the overlay refused the first maps, whose thinnest faces nearly "
+                                           "coincided below what doubles resolve"));
+      return m;
+    } catch (const OverlayRefused& again) {
+      throw ComputeError(detail::concat("the overlay of the two maps failed with proxies of ",
+                                        o.correspondence.proxy_faces, " and ", finer.correspondence.proxy_faces,
+                                        " faces (", again.what(), "): try a few pins or another proxy size"));
+    }
+  }
+}
 
 Eigen::MatrixXd carry_corner_values(const Morph& morph, int side, const Eigen::MatrixXd& values) {
   PM_REQUIRE(side == 0 || side == 1, InvalidInputError, "side is 0 (A) or 1 (B), got ", side);

@@ -7,7 +7,7 @@
 
 #define PARAMORPH_STR2(x) #x
 #define PARAMORPH_STR(x) PARAMORPH_STR2(x)
-#define PYBIND11_VERSION_STRING_FOR_ERRORS PARAMORPH_STR(PYBIND11_VERSION_MAJOR) "." PARAMORPH_STR(PYBIND11_VERSION_MINOR)
+#define PARAMORPH_PYBIND11_VERSION PARAMORPH_STR(PYBIND11_VERSION_MAJOR) "." PARAMORPH_STR(PYBIND11_VERSION_MINOR)
 
 namespace {
 
@@ -20,7 +20,7 @@ void require_numpy_this_build_reads() {
   const std::string version = pybind11::module_::import("numpy").attr("__version__").cast<std::string>();
   const int major = std::atoi(version.c_str());
   if (major >= 2)
-    throw pybind11::import_error("paramorph_native was built with pybind11 " PYBIND11_VERSION_STRING_FOR_ERRORS
+    throw pybind11::import_error("paramorph_native was built with pybind11 " PARAMORPH_PYBIND11_VERSION
                                  ", which reads NumPy 2 arrays wrongly, and this Python has NumPy " +
                                  version + ": use NumPy < 2, or rebuild with pybind11 >= 2.12");
 #endif

@@ -28,16 +28,10 @@ import numpy as np
 from common import MODELS, emit, import_native, load_obj
 
 pm = import_native()
+from in_betweens import rotation  # noqa: E402  (tests/native, on sys.path after import_native)
 
 CHARACTERS = ["cat", "lion", "horned-cow", "samba", "dancer"]
 HOOVES = ["front_right_hoof", "front_left_hoof", "hind_right_hoof", "hind_left_hoof"]
-
-
-def rotation(axis, degrees):
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    a = np.radians(degrees)
-    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
 
 
 TURNS = [("x 90", rotation([1, 0, 0], 90), 1.0, np.zeros(3)),

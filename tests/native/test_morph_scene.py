@@ -12,16 +12,10 @@ import pytest
 import meshes
 import paramorph_native as pm
 import quadrupeds as Q
+from in_betweens import rotation
 from quadrupeds import folded_faces, landmark_vertices
 
 MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
-
-
-def rotation(axis, degrees):
-    k = np.asarray(axis, float) / np.linalg.norm(axis)
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    a = np.radians(degrees)
-    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
 
 
 # (rotation, uniform scale, shift) applied to both meshes: a y-up file in a
