@@ -190,7 +190,8 @@ class CorrespondenceSettings:
 
     extremities: bpy.props.BoolProperty(
         name="Extremities", default=True,
-        description="Weigh pairings of the extremity tips (limbs, head, tail) of both meshes")
+        description="Weigh pairings of the extremity tips (limbs, head, tail) of both meshes, by where they "
+                    "lie on the sphere maps and by the paths from the body out to them")
     registration: bpy.props.BoolProperty(
         name="Registration", default=True,
         description="Weigh 3D registrations of the two shapes (as placed, and by principal axes)")

@@ -25,14 +25,14 @@ class ParamorphMatchPair(bpy.types.PropertyGroup):
                                     description="Vertex of the target it lands on at the end of the morph")
     pin: bpy.props.BoolProperty(name="Pin", description="Given by the user: always used")
     kind: bpy.props.StringProperty(
-        name="Kind", description="The automatic candidate the pair came from (extremities, registration, "
-                                 "features; empty for a pin)")
+        name="Kind", description="The automatic candidate the pair came from (extremities, tip paths, "
+                                 "registration, features; empty for a pin)")
 
 
 class ParamorphCandidate(bpy.types.PropertyGroup):
     """One automatic correspondence Preview Matches weighed, and its score."""
     kind: bpy.props.StringProperty(
-        name="Kind", description="none, extremities, registration, features or given")
+        name="Kind", description="none, extremities, tip paths, pin distances, registration, features or given")
     detail: bpy.props.StringProperty(name="Detail", description="What the candidate pairs")
     score: bpy.props.FloatProperty(
         name="Score", description="Distortion of the correspondence it makes plus the curvature mismatch "

@@ -9,8 +9,9 @@
 
 namespace paramorph {
 
-VectorXd edge_path_distances(const TriMesh& mesh, const std::vector<Index>& sources) {
+VectorXd edge_path_distances(const TriMesh& mesh, const std::vector<Index>& sources, std::vector<Index>* previous) {
   const Index n = mesh.num_vertices();
+  if (previous) previous->assign(std::size_t(n), -1);
   const Csr& ring = mesh.vertex_neighbors();
   VectorXd dist = VectorXd::Constant(n, std::numeric_limits<double>::infinity());
   using Entry = std::pair<double, Index>;  // ties settle the lower vertex first
@@ -30,6 +31,7 @@ VectorXd edge_path_distances(const TriMesh& mesh, const std::vector<Index>& sour
       const double du = d + (V.row(u) - V.row(v)).norm();
       if (du < dist[u]) {
         dist[u] = du;
+        if (previous) (*previous)[std::size_t(u)] = v;
         queue.push({du, u});
       }
     }

@@ -15,6 +15,7 @@
 #include "common/errors.h"
 #include "common/principal_axes.h"
 #include "features/min_cost_assignment.h"
+#include "features/protrusion_tips.h"
 #include "mesh/closest_points.h"
 #include "mesh/edge_path_distances.h"
 #include "mesh/gaussian_curvature.h"
@@ -25,6 +26,7 @@
 #include "morph/point_location.h"
 #include "morph/sphere_warp.h"
 #include "morph/tip_assignments.h"
+#include "morph/tip_path_pairs.h"
 #include "param/spherical/balanced_sphere_map.h"
 #include "param/spherical/sphere_map.h"
 
@@ -57,6 +59,8 @@ struct Side {
   features::ExtremityTips tips;
   std::string tips_note;                    ///< why there are no tips, when there are none
   std::vector<Index> model_tip;             ///< per tip: the model's peak of distance from the body it stands for
+  features::ProtrusionTips protrusions;     ///< on the proxy (tip_path_pairs)
+  std::vector<Index> protrusion_model_tip;  ///< per protrusion tip: the model's peak of distance from the core
   std::shared_ptr<const ClosestPointTree> tree;  ///< over the proxy, to read model points on its map
 
   /// Where model vertices are on the proxy's map: at their closest points
@@ -74,6 +78,41 @@ struct Side {
     return out;
   }
 };
+
+Index nearest_vertex(const MatrixX3d& V, const Eigen::RowVector3d& p) {
+  Index v;
+  (V.rowwise() - p).rowwise().squaredNorm().minCoeff(&v);
+  return v;
+}
+
+/// The model's own tips for tips of its proxy: from the model vertex nearest
+/// each, up the model's distance along edges from `from` (the body, or the
+/// core) to its peak, no farther than `reach` from the proxy's tip: the
+/// proxy's tip is a proxy edge short of the end, and an unbounded climb from
+/// a muzzle ran over the head to a horn.
+std::vector<Index> climb_model_tips(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
+                                    const std::vector<Index>& proxy_tips, const std::vector<Index>& from,
+                                    double reach = std::numeric_limits<double>::infinity()) {
+  const TriMesh mesh(V, F);
+  VectorXd dist = from.empty() ? VectorXd::Zero(V.rows()) : edge_path_distances(mesh, from);
+  for (Index v = 0; v < dist.size(); ++v)
+    if (!std::isfinite(dist[v])) dist[v] = 0;
+  const Csr& ring = mesh.vertex_neighbors();
+  std::vector<Index> out;
+  for (const Index tip : proxy_tips) {
+    Index v = nearest_vertex(V, proxy_V.row(tip));
+    for (Index higher = v; higher >= 0;) {
+      v = higher;
+      higher = -1;
+      for (Index k = ring.begin(v); k < ring.end(v); ++k)
+        if (dist[ring.items[k]] > dist[higher >= 0 ? higher : v] &&
+            (V.row(ring.items[k]) - proxy_V.row(tip)).norm() <= reach)
+          higher = ring.items[k];
+    }
+    out.push_back(v);
+  }
+  return out;
+}
 
 Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOptions& o, Progress* progress) {
   Side side;
@@ -94,6 +133,14 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
     return spherical::balanced_sphere_map(side.V, side.F, {}, p).positions;
   });
   side.map = side.map * best_rotation(side.map, side.V.rowwise().normalized(), side.area);
+  if (o.extremities && o.tip_paths) {
+    features::ProtrusionOptions protrusion;
+    protrusion.radius = o.protrusion_radius;
+    side.protrusions = features::protrusion_tips(side.V, side.F, protrusion);
+    side.protrusion_model_tip = climb_model_tips(V, F, side.V, side.protrusions.vertices,
+                                                 {nearest_vertex(V, side.V.row(side.protrusions.core))},
+                                                 o.protrusion_radius / 3);
+  }
   if (!o.extremities && !o.registration) return side;
   // Extremities come from the conformal map's area stretch (3.5.1).
   try {
@@ -125,26 +172,11 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   if (progress) progress->report(0.9, "model tips");
   const ClosestPoints on = side.tree->query(V);
   if (progress) progress->report(0.94, "model tips");
-  const TriMesh mesh(V, F);
   std::vector<Index> body;
   for (Index v = 0; v < V.rows(); ++v)
     if (side.extremities->face_labels[on.face[v]] == side.tips.body) body.push_back(v);
   if (progress) progress->report(0.96, "model tips");
-  VectorXd dist = body.empty() ? VectorXd::Zero(V.rows()) : edge_path_distances(mesh, body);
-  for (Index v = 0; v < dist.size(); ++v)
-    if (!std::isfinite(dist[v])) dist[v] = 0;
-  const Csr& ring = mesh.vertex_neighbors();
-  for (const Index tip : side.tips.vertices) {
-    Index v;
-    (V.rowwise() - side.V.row(tip)).rowwise().squaredNorm().minCoeff(&v);
-    for (Index higher = v; higher >= 0;) {
-      v = higher;
-      higher = -1;
-      for (Index k = ring.begin(v); k < ring.end(v); ++k)
-        if (dist[ring.items[k]] > dist[higher >= 0 ? higher : v]) higher = ring.items[k];
-    }
-    side.model_tip.push_back(v);
-  }
+  side.model_tip = climb_model_tips(V, F, side.V, side.tips.vertices, body);
   return side;
 }
 
@@ -153,6 +185,8 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
 Index model_vertex(const Side& side, Index proxy_vertex) {
   for (std::size_t t = 0; t < side.tips.vertices.size(); ++t)
     if (side.tips.vertices[t] == proxy_vertex && !side.model_tip.empty()) return side.model_tip[t];
+  for (std::size_t t = 0; t < side.protrusions.vertices.size(); ++t)
+    if (side.protrusions.vertices[t] == proxy_vertex) return side.protrusion_model_tip[t];
   Index nearest;
   (side.model_V->rowwise() - side.V.row(proxy_vertex)).rowwise().squaredNorm().minCoeff(&nearest);
   return nearest;
@@ -215,11 +249,11 @@ std::vector<Index> farthest_points(const MatrixX3d& P, std::size_t count) {
 
 /// How unlike the curvature of every vertex of B's proxy is to A's where
 /// the candidate map puts it: the area-weighted mean absolute difference of
-/// the smoothed Gaussian curvatures, over their mean spread. Distortion alone
+/// the smoothed Gaussian curvatures, over their mean spread (`at`: where
+/// each vertex of B's proxy lands on A's map). Distortion alone
 /// cannot see a map that slides along a smooth surface (a bump carried
 /// beside its partner bends little); this can.
-double curvature_mismatch(const Side& A, const Side& B, const MatrixX3d& warped) {
-  const SphereLocations at = locate_on_sphere_map(A.map, A.F, warped);
+double curvature_mismatch(const Side& A, const Side& B, const SphereLocations& at) {
   auto spread = [](const VectorXd& K, const VectorXd& w) {
     const double mean = K.dot(w) / w.sum();
     return (K.array() - mean).abs().matrix().dot(w) / w.sum();
@@ -233,6 +267,26 @@ double curvature_mismatch(const Side& A, const Side& B, const MatrixX3d& warped)
     sum += B.area[v] * std::abs(B.curvature[v] - there);
   }
   return scale > 0 ? sum / B.area.sum() / scale : 0.0;
+}
+
+/// How far a candidate's map puts B's protrusion tips from the partners
+/// their paths chose as placed (tip_path_pairs): per pair, the distance from
+/// where B's tip lands on A's proxy to A's tip over `radius`, at most 1,
+/// weighted by the pair's confidence (1 - cost / max_cost); 0 with no pairs.
+/// Distortion and curvature alone scored a lion's muzzle put on a cow's horn
+/// within 0.5 % of the right map (issue 29).
+double tip_disagreement(const Side& A, const SphereLocations& at, const std::vector<TipPathPair>& pairs,
+                        double radius, double max_cost) {
+  double sum = 0, weights = 0;
+  for (const TipPathPair& pair : pairs) {
+    const auto f = A.F.row(at.face[pair.b]);
+    const Eigen::RowVector3d landed =
+        at.bary(pair.b, 0) * A.V.row(f[0]) + at.bary(pair.b, 1) * A.V.row(f[1]) + at.bary(pair.b, 2) * A.V.row(f[2]);
+    const double weight = std::max(0.0, 1.0 - pair.cost / max_cost);
+    sum += weight * std::min(1.0, (landed - A.V.row(pair.a)).norm() / radius);
+    weights += weight;
+  }
+  return weights > 0 ? sum / weights : 0.0;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -288,6 +342,24 @@ Pairs tips_by_pin_distances(const Side& A, const Side& B, const MatrixX3d& VA, c
   return out;
 }
 
+/// A turn of B's proxy into A's frame to start from: as placed, or one of
+/// the four proper sign choices of their principal axes (area-weighted).
+struct Start {
+  std::string detail;
+  Eigen::Matrix3d rotation;  // column vectors: x_A = R x_B
+};
+
+std::vector<Start> shape_starts(const Side& A, const Side& B) {
+  const Eigen::Matrix3d axes_a = principal_axes(A.V, A.area).axes, axes_b = principal_axes(B.V, B.area).axes;
+  std::vector<Start> starts{{"as placed", Eigen::Matrix3d::Identity()}};
+  const char* turns[4] = {"principal axes", "principal axes, turned 180 deg about the first",
+                          "principal axes, turned 180 deg about the second", "principal axes, turned 180 deg about the third"};
+  const double signs[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  for (int s = 0; s < 4; ++s)
+    starts.push_back({turns[s], axes_a * Eigen::Vector3d(signs[s][0], signs[s][1], signs[s][2]).asDiagonal() * axes_b.transpose()});
+  return starts;
+}
+
 /// Every candidate (DESIGN: none, extremities, registration, features), or
 /// the one "given" candidate.
 std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
@@ -330,19 +402,26 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
       if (!r.pairs.empty()) raw.push_back(std::move(r));
     }
     if (progress) progress->report(0.82, "correspondence candidates");
+    const std::vector<Start> starts = shape_starts(A, B);
+    if (o.extremities && o.tip_paths) {
+      for (const Start& start : starts) {
+        const std::vector<TipPathPair> paired =
+            tip_path_pairs(A.V, A.area, A.protrusions, B.V * start.rotation.transpose(), B.area, B.protrusions,
+                           o.tip_path_samples, o.tip_path_cost);
+        if (paired.size() < 2) continue;
+        Raw r{"tip paths", "", {}, Eigen::Matrix3d::Identity(), {}};
+        double cost = 0;
+        for (const TipPathPair& pair : paired) r.pairs.push_back({pair.a, pair.b}), cost += pair.cost;
+        std::ostringstream detail;
+        detail.precision(2);
+        detail << start.detail << ", " << paired.size() << " of " << A.protrusions.vertices.size() << " and "
+               << B.protrusions.vertices.size() << " tips paired by their paths from the core, mean cost "
+               << cost / double(paired.size());
+        r.detail = detail.str();
+        raw.push_back(std::move(r));
+      }
+    }
     if (o.registration) {
-      // Principal axes of the proxies, area-weighted.
-      const Eigen::Matrix3d axes_a = principal_axes(A.V, A.area).axes, axes_b = principal_axes(B.V, B.area).axes;
-      struct Start {
-        std::string detail;
-        Eigen::Matrix3d rotation;  // column vectors: x_A = R x_B
-      };
-      std::vector<Start> starts{{"as placed", Eigen::Matrix3d::Identity()}};
-      const char* turns[4] = {"principal axes", "principal axes, turned 180 deg about the first",
-                              "principal axes, turned 180 deg about the second", "principal axes, turned 180 deg about the third"};
-      const double signs[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
-      for (int s = 0; s < 4; ++s)
-        starts.push_back({turns[s], axes_a * Eigen::Vector3d(signs[s][0], signs[s][1], signs[s][2]).asDiagonal() * axes_b.transpose()});
       for (const Start& start : starts) {
         // Each registration reports: the five of them were 1.5-5 s without a
         // report on 97k faces (Esc waited that long, issue 20).
@@ -415,9 +494,12 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
                               Progress* progress) {
   PM_REQUIRE(o.proxy_faces >= 100 && o.max_tips >= 1 && std::isfinite(o.tip_angle) && o.tip_angle > 0 &&
                  std::isfinite(o.registered_tip_distance) && o.registered_tip_distance > 0 &&
-                 std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0,
+                 std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0 &&
+                 std::isfinite(o.protrusion_radius) && o.protrusion_radius > 0 && o.tip_path_samples >= 2 &&
+                 std::isfinite(o.tip_path_cost) && o.tip_path_cost > 0,
              InvalidInputError,
-             "proxy_faces >= 100, max_tips >= 1, tip_angle and registered_tip_distance > 0, pin_radius and fallbacks >= 0");
+             "proxy_faces >= 100, max_tips >= 1, tip_angle, registered_tip_distance, protrusion_radius and tip_path_cost > 0, "
+             "tip_path_samples >= 2, pin_radius and fallbacks >= 0");
   Correspondence out;
   auto clock = std::chrono::steady_clock::now();
   auto mark = [&](const char* stage) {
@@ -442,6 +524,12 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
   }
   const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, o, progress);
   mark("candidates");
+  // The tips' own pairing as the models are placed: every candidate is
+  // scored for keeping it (tip_disagreement).
+  const std::vector<TipPathPair> placed_tip_pairs =
+      !given && o.extremities && o.tip_paths
+          ? tip_path_pairs(A.V, A.area, A.protrusions, B.V, B.area, B.protrusions, o.tip_path_samples, o.tip_path_cost)
+          : std::vector<TipPathPair>{};
 
   // A proxy pair within pin_radius of a pin on either model.
   auto near_pin = [&](const std::array<Index, 2>& pair) {
@@ -505,11 +593,15 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
       step(0.4);
       candidate.distortion = map_distortion(A.V, A.F, A.map, B.V, B.F, warped).mean;
       step(0.7);
-      candidate.curvature_mismatch = curvature_mismatch(A, B, warped);
+      const SphereLocations landed = locate_on_sphere_map(A.map, A.F, warped);
+      candidate.curvature_mismatch = curvature_mismatch(A, B, landed);
+      candidate.tip_disagreement =
+          tip_disagreement(A, landed, placed_tip_pairs, o.protrusion_radius, o.tip_path_cost);
       const Eigen::Matrix3d turn = best_rotation(B.map, warped, B.area);
       candidate.turn = std::acos(std::clamp(0.5 * (turn.trace() - 1), -1.0, 1.0));
       candidate.score = (candidate.distortion + o.curvature_weight * candidate.curvature_mismatch) *
-                        (1 + o.placement_weight * candidate.turn / M_PI);
+                        (1 + o.placement_weight * candidate.turn / M_PI) *
+                        (1 + o.tip_weight * candidate.tip_disagreement);
       if (!std::isfinite(candidate.score)) candidate.rejected = "its correspondence could not be measured";
     }
     out.candidates.push_back(candidate);

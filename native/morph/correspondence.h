@@ -12,6 +12,9 @@
 //      - none: no automatic pairs;
 //      - extremities: pairings of the tips of segment_extremities (3.5.1;
 //        limbs, head, tail) found by tip_assignments;
+//      - tip paths: the protrusion tips (local maxima of the average
+//        geodesic distance) paired by the paths from each model's core out
+//        to them, as placed and from the principal axes (tip_path_pairs);
 //      - registration: the proxies registered in 3D (polynomial ICP up to
 //        cubic, register_surfaces) from their principal axes (the four proper
 //        sign choices) and from their placement; farthest-point samples of
@@ -25,7 +28,9 @@
 //      read on A's proxy through the maps, and the score is the isometric
 //      distortion of that correspondence (map_distortion) plus how unlike the
 //      smoothed Gaussian curvatures are at corresponding points, raised a
-//      little the further it turns B from where it is placed. A candidate
+//      little the further it turns B from where it is placed and the farther
+//      it puts B's protrusion tips from the partners their paths chose as
+//      placed (tip_path_pairs: what a tip is). A candidate
 //      whose pairs are in mirrored order is rejected (a map it would fold
 //      where the proxy is too coarse for the flow is scored with its folds).
 //      The lowest score wins, so an automatic candidate is used only when it
@@ -71,6 +76,18 @@ struct CorrespondenceOptions {
   /// cow, and pairing every two of them with every two of the other's took
   /// a minute (issue 29); limbs, head, tail and horns are fewer.
   std::size_t max_tips = 12;
+  /// Tips paired by the paths from each model's core out to them
+  /// (features/protrusion_tips, morph/tip_path_pairs), as placed and from
+  /// the principal axes; needs `extremities`.
+  bool tip_paths = true;
+  /// A protrusion tip is the highest within this distance along edges (units
+  /// of the correspondence frame: the model scaled to unit area).
+  double protrusion_radius = 0.15;
+  int tip_path_samples = 8;  ///< points per path
+  /// Tips whose paths differ more than this (root mean square, in each
+  /// model's spreads) are not paired: the right pairs of a cat, a lion and a
+  /// scanned cow cost 0.4-1.75 (a raised tail against a hanging one the most).
+  double tip_path_cost = 2.0;
   /// With 3+ pins: tips whose distances to the pins (as unit vectors) are
   /// closer than this pair (tips_by_pin_distances).
   double pin_distance_match = 0.08;
@@ -96,19 +113,24 @@ struct CorrespondenceOptions {
   /// candidates score within 10% of each other, and a half-turned one won
   /// by chance (Suzanne into a blob came out turned round).
   double placement_weight = 0.25;
+  /// How much the score grows as the candidate's map puts B's protrusion
+  /// tips away from the partners their paths chose as placed: times 1 +
+  /// tip_weight x tip_disagreement (0 to 1).
+  double tip_weight = 0.5;
   features::ExtremityOptions extremity;
   features::MatchOptions match;
   RegisterOptions registration_options;  ///< ICP, affine up to cubic
 };
 
 struct CorrespondenceCandidate {
-  std::string kind;      ///< "none", "extremities", "registration", "features" or "given"
+  std::string kind;      ///< "none", "extremities", "tip paths", "pin distances", "registration", "features" or "given"
   std::string detail;    ///< e.g. "6 tips" or "principal axes, turned 180 deg about x"
   /// The automatic pairs on the proxies (vertex of A's proxy, of B's proxy);
   /// the pins are not listed.
   std::vector<std::array<Index, 2>> proxy_pairs;
   /// (distortion + curvature_weight x curvature_mismatch) x (1 +
-  /// placement_weight x turn / pi): lower is better; +inf when rejected
+  /// placement_weight x turn / pi) x (1 + tip_weight x tip_disagreement):
+  /// lower is better; +inf when rejected
   /// before scoring (one rejected later, by the morph, keeps its score).
   double score = std::numeric_limits<double>::infinity();
   /// Mean isometric distortion of the correspondence through the proxies'
@@ -121,6 +143,9 @@ struct CorrespondenceCandidate {
   double curvature_mismatch = 0;
   /// Radians B's map is turned from where the models are placed.
   double turn = 0;
+  /// 0 to 1: how far the map puts B's protrusion tips from the partners
+  /// their paths chose as placed (tip_path_pairs), confidence-weighted.
+  double tip_disagreement = 0;
   std::string rejected;  ///< why it could not be used: before scoring, or by the morph on the models (empty otherwise)
 };
 

@@ -341,12 +341,15 @@ void def_correspondence(py::module_& m) {
       .def_property_readonly("proxy_pairs", [](const CorrespondenceCandidate& c) { return pairs_to_numpy(c.proxy_pairs); },
                              "(k, 2) its automatic pairs on the proxies")
       .def_readonly("score", &CorrespondenceCandidate::score,
-                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi): lower is better; inf when rejected before scoring")
+                    "(distortion + 0.5 curvature_mismatch) x (1 + 0.25 turn / pi) x (1 + 0.5 tip_disagreement): lower is "
+                    "better; inf when rejected before scoring")
       .def_readonly("distortion", &CorrespondenceCandidate::distortion,
                     "mean isometric distortion of its correspondence (0 for an isometry)")
       .def_readonly("curvature_mismatch", &CorrespondenceCandidate::curvature_mismatch,
                     "mean difference of smoothed Gaussian curvature at corresponding points, over its spread")
       .def_readonly("turn", &CorrespondenceCandidate::turn, "radians it turns B from where it is placed")
+      .def_readonly("tip_disagreement", &CorrespondenceCandidate::tip_disagreement,
+                    "0 to 1: how far it puts B's protrusion tips from the partners their paths chose as placed")
       .def_readonly("rejected", &CorrespondenceCandidate::rejected, "why it could not be used: before scoring (score inf) or, by morph, on the models ('' otherwise)")
       .def("__repr__", [](const CorrespondenceCandidate& c) {
         return "<CorrespondenceCandidate " + c.kind + " (" + c.detail + ") score=" + std::to_string(c.score) +

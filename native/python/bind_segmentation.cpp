@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "features/extremity_tips.h"
+#include "features/protrusion_tips.h"
 #include "features/feature_points.h"
 #include "features/feature_regions.h"
 #include "features/segment_extremities.h"
@@ -207,11 +208,39 @@ and in every extremity at least its farthest vertex. Returns ExtremityTips
 (body, vertices, regions, lengths), farthest first.)doc");
 }
 
+void def_protrusion_tips(py::module_& m) {
+  py::class_<features::ProtrusionTips>(m, "ProtrusionTips", "Result of protrusion_tips().")
+      .def_property_readonly(
+          "average_distance", [](const features::ProtrusionTips& t) { return to_numpy(t.average_distance); },
+          "per vertex: mean edge-path distance to the samples")
+      .def_readonly("core", &features::ProtrusionTips::core, "the vertex of least average distance")
+      .def_readonly("vertices", &features::ProtrusionTips::vertices, "the tips, highest average distance first")
+      .def_readonly("paths", &features::ProtrusionTips::paths, "per tip: vertices of a shortest edge path from the core");
+  m.def(
+      "protrusion_tips",
+      [](const py::object& V, const py::object& F, double radius, std::size_t samples, std::size_t max_tips) {
+        const MatrixX3d v = to_vertices(V);
+        const MatrixX3i f = to_faces(F);
+        require_mesh(v, f);
+        py::gil_scoped_release release;
+        return features::protrusion_tips(v, f, {radius, samples, max_tips});
+      },
+      py::arg("V"), py::arg("F"), py::kw_only(), py::arg("radius") = 0.15, py::arg("samples") = 100,
+      py::arg("max_tips") = 24,
+      R"doc(The tips of a mesh's protrusions (limbs, tail, muzzle, horns, ears): the
+vertices highest in average edge-path distance (to `samples` farthest-point
+samples) within `radius` (units of V) of themselves, above the median, at
+most `max_tips`, highest first; with the core (least average distance) and
+the edge path from the core to each tip. Meant for proxies of a few thousand
+faces: one Dijkstra per sample. Returns ProtrusionTips.)doc");
+}
+
 void bind_segmentation(py::module_& m) {
   def_segmentation(m);
   def_area_stretch(m);
   def_segment_extremities(m);
   def_extremity_tips(m);
+  def_protrusion_tips(m);
   def_feature_regions(m);
   def_feature_points(m);
 }
