@@ -342,6 +342,26 @@ Pairs tips_by_pin_distances(const Side& A, const Side& B, const MatrixX3d& VA, c
   return out;
 }
 
+/// tip_path_pairs with B turned by `rotation` into A's frame, without the
+/// tips within half a protrusion radius of a pin on either model: a pinned
+/// hoof's tip is a few edges from the pin, and holding both where the two
+/// models put them differently stalled the map (lion -> scanned cow, four
+/// hooves pinned).
+std::vector<TipPathPair> unpinned_tip_path_pairs(const Side& A, const Side& B, const MatrixX3d& VA,
+                                                 const MatrixX3d& VB, const Pairs& pins,
+                                                 const Eigen::Matrix3d& rotation, const CorrespondenceOptions& o) {
+  std::vector<TipPathPair> out;
+  for (const TipPathPair& pair : tip_path_pairs(A.V, A.area, A.protrusions, B.V * rotation.transpose(), B.area,
+                                                B.protrusions, o.tip_path_samples, o.tip_path_cost)) {
+    bool pinned = false;
+    for (const auto& pin : pins)
+      pinned = pinned || (A.V.row(pair.a) - VA.row(pin[0])).norm() < 0.5 * o.protrusion_radius ||
+               (B.V.row(pair.b) - VB.row(pin[1])).norm() < 0.5 * o.protrusion_radius;
+    if (!pinned) out.push_back(pair);
+  }
+  return out;
+}
+
 /// A turn of B's proxy into A's frame to start from: as placed, or one of
 /// the four proper sign choices of their principal axes (area-weighted).
 struct Start {
@@ -405,9 +425,7 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
     const std::vector<Start> starts = shape_starts(A, B);
     if (o.extremities && o.tip_paths) {
       for (const Start& start : starts) {
-        const std::vector<TipPathPair> paired =
-            tip_path_pairs(A.V, A.area, A.protrusions, B.V * start.rotation.transpose(), B.area, B.protrusions,
-                           o.tip_path_samples, o.tip_path_cost);
+        const std::vector<TipPathPair> paired = unpinned_tip_path_pairs(A, B, VA, VB, pins, start.rotation, o);
         if (paired.size() < 2) continue;
         Raw r{"tip paths", "", {}, Eigen::Matrix3d::Identity(), {}};
         double cost = 0;
@@ -528,7 +546,7 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
   // scored for keeping it (tip_disagreement).
   const std::vector<TipPathPair> placed_tip_pairs =
       !given && o.extremities && o.tip_paths
-          ? tip_path_pairs(A.V, A.area, A.protrusions, B.V, B.area, B.protrusions, o.tip_path_samples, o.tip_path_cost)
+          ? unpinned_tip_path_pairs(A, B, VA, VB, pins, Eigen::Matrix3d::Identity(), o)
           : std::vector<TipPathPair>{};
 
   // A proxy pair within pin_radius of a pin on either model.

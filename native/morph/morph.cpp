@@ -155,6 +155,17 @@ struct OverlayRefused : ComputeError {
   using ComputeError::ComputeError;
 };
 
+/// No ranked candidate's pairs, nor the pins alone, could be met on the
+/// model (a ConstraintError to the caller when trying more does not help).
+struct CandidatesUnmet : ConstraintError {
+  using ConstraintError::ConstraintError;
+};
+
+/// Candidates tried after the ranked ones all failed: four hooves pinned
+/// on a lion and a scanned cow, the pins alone and the three best stalled,
+/// the fifth (tips paired by their distances to the pins) held (issue 29).
+constexpr int kMoreFallbacks = 10;
+
 Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
                  const MorphOptions& o, Progress* progress) {
   if (progress) progress->report(0.0, "morph");
@@ -269,7 +280,7 @@ Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
     for (const auto& pair : real.pairs) m.pairs.push_back(pair), m.pair_is_pin.push_back(false);
     break;
   }
-  PM_REQUIRE(m.sphere_b.rows() == p.b.V.rows(), ConstraintError, "mesh B: ", first_failure,
+  PM_REQUIRE(m.sphere_b.rows() == p.b.V.rows(), CandidatesUnmet, "mesh B: ", first_failure,
              "; pins very close together on one mesh and further apart on the other, or crossing each other's "
              "way, are the usual cause");
   mark("sphere maps of the models");
@@ -303,12 +314,32 @@ Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
   return m;
 }
 
+/// morph_once, and where none of the ranked candidates could be met, again
+/// with more of them (reporting in the last stretch, 0.97 to 1).
+Morph morph_trying_more(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
+                        const MorphOptions& o, Progress* progress) {
+  try {
+    return morph_once(VA, FA, VB, FB, o, progress);
+  } catch (const CandidatesUnmet&) {
+    if (o.pairs || !o.automatic || o.correspondence.fallbacks >= kMoreFallbacks) throw;
+    MorphOptions more = o;
+    more.correspondence.fallbacks = kMoreFallbacks;
+    Morph m = run_stage("morph trying more candidates", 0.97, 1.0, progress,
+                        [&](Progress* window) { return morph_once(VA, FA, VB, FB, more, window); });
+    const CorrespondenceCandidate& used = m.candidates[std::size_t(m.chosen)];
+    m.fallbacks.push_back(detail::concat("candidate '", used.kind, ": ", used.detail, "', ranked below the best ",
+                                         o.correspondence.fallbacks + 1,
+                                         ": their pairs and the pins alone could not all be met on the model"));
+    return m;
+  }
+}
+
 }  // namespace
 
 Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const MatrixX3i& FB,
             const MorphOptions& o, Progress* progress) {
   try {
-    return morph_once(VA, FA, VB, FB, o, progress);
+    return morph_trying_more(VA, FA, VB, FB, o, progress);
   } catch (const OverlayRefused& refused) {
     // Other proxies give other maps: the same correspondence problem, other
     // thin faces. The redo reports in the last stretch (0.97 to 1) so
@@ -317,7 +348,7 @@ Morph morph(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, const
     finer.correspondence.proxy_faces = o.correspondence.proxy_faces * 3 / 2;
     try {
       Morph m = run_stage("morph with finer proxies", 0.97, 1.0, progress,
-                          [&](Progress* window) { return morph_once(VA, FA, VB, FB, finer, window); });
+                          [&](Progress* window) { return morph_trying_more(VA, FA, VB, FB, finer, window); });
       m.fallbacks.push_back(detail::concat("proxies of ", finer.correspondence.proxy_faces, " faces instead of ",
                                            o.correspondence.proxy_faces,
                                            ": the overlay refused the first maps, whose thinnest faces nearly "

@@ -32,7 +32,7 @@ def test_a_reposed_copy_matches_within_three_percent(reposed):
     errors, own = landmark_errors(m, LA, VB, LB)
     print("re-posed copy: landmark errors", np.round(errors, 4), m.candidates[m.chosen])
     assert errors.max() < 0.03 and own.all()
-    assert m.candidates[m.chosen].kind == "extremities"
+    assert m.candidates[m.chosen].kind in ("extremities", "tip paths")  # the tips made it
     # The inside-out file was noticed and turned, not mirrored.
     assert m.inside_out_b and not m.inside_out_a and folded(m) == 0
 
