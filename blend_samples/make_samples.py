@@ -170,6 +170,8 @@ def write_uvs_and_pins(mesh, uv, pins):
     if hasattr(layer, "pin"):  # 3.5+: the attribute API; on 4.5 the old
         # MeshUVLoop "pin_uv" foreach_set corrupts the heap (checked)
         layer.uv.foreach_set("vector", uv.astype(np.float32).ravel())
+        if hasattr(layer, "pin_ensure"):  # 5.x: layer.pin stays empty until
+            layer.pin_ensure()            # the pin attribute is made
         layer.pin.foreach_set("value", pins)
     else:
         layer.data.foreach_set("uv", uv.astype(np.float32).ravel())

@@ -111,10 +111,12 @@ class PARAMORPH_OT_isometric_unwrap(NativeOperator, bpy.types.Operator):
             layer = mesh.uv_layers.active
             uv = uv_patch.read_uv(mesh, layer) if layer is not None else None
             pins = uv_patch.uv_pins(mesh, layer) if layer is not None else None
+            # Read here: back in Edit Mode the layer is gone (5.x reads its name as "").
+            layer_name = layer.name if layer is not None else "UVMap"
             islands = uv_patch.selected_islands(mesh, selected, uv, pins)
         _require_discs(islands)
         state = {"object": obj.name, "islands": islands, "faces": sum(len(island.F) for island in islands),
-                 "layer": layer.name if layer is not None else "UVMap"}
+                 "layer": layer_name}
         options = {"max_iterations": self.max_iterations, "backend": backend(context),
                    "margin": self.margin}
         if self.pin_mode == "PLACE" and uv is not None:

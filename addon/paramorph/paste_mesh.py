@@ -12,6 +12,8 @@ the kept triangles of cut polygons) is appended as a mesh and welded to the
 old vertices, then the cut polygons are deleted. Temporary integer id
 attributes say afterwards which final element is which, so positions and
 face data are written with numpy, whatever order BMesh left them in."""
+import contextlib
+
 import bmesh
 import bpy
 import numpy as np
@@ -218,11 +220,28 @@ def write(mesh, V, F, tri_poly, V2, F2, new_faces, replaced, new_face_parents):
             "new_polygons": new_polygons}
 
 
+@contextlib.contextmanager
+def _uv_map_choices_kept(mesh):
+    """The artist's active UV map and render UV map, as they were: from 5.0 a
+    BMesh that also took in a mesh without UV maps (the patch) makes the first
+    map both again on to_mesh."""
+    active = mesh.uv_layers.active.name if mesh.uv_layers.active else None
+    render = next((layer.name for layer in mesh.uv_layers if layer.active_render), None)
+    try:
+        yield
+    finally:
+        if mesh.uv_layers.get(active or "") is not None:
+            mesh.uv_layers.active = mesh.uv_layers[active]
+        if mesh.uv_layers.get(render or "") is not None:
+            mesh.uv_layers[render].active_render = True
+
+
 def _restore(mesh, backup):
     bm = bmesh.new()
     try:
-        bm.from_mesh(backup)
-        bm.to_mesh(mesh)
+        with _uv_map_choices_kept(mesh):
+            bm.from_mesh(backup)
+            bm.to_mesh(mesh)
     finally:
         bm.free()
     for name in (VERTEX_ID, FACE_ID):
@@ -255,7 +274,8 @@ def _rebuild(mesh, n, P, V, F, V2, cut, patch_faces, patch_tri, patch_source,
             bmesh.ops.weld_verts(bm, targetmap=targetmap)  # touches only patch faces
             # The cut polygons, and their edges and vertices no face uses any more.
             bmesh.ops.delete(bm, geom=[f for f in doomed if f.is_valid], context="FACES")
-            bm.to_mesh(mesh)
+            with _uv_map_choices_kept(mesh):
+                bm.to_mesh(mesh)
         finally:
             bm.free()
     finally:

@@ -12,7 +12,7 @@ import sys
 
 WHEEL_POLICY = "manylinux_2_34_x86_64"
 GLIBC_FLOOR = (2, 34)
-PYTHON = (3, 11)  # Blender 4.2 to 5.0
+PYTHONS = ((3, 11), (3, 13))  # Blender 4.2 to 5.0; 5.1 and later
 
 
 def system_glibc():
@@ -44,8 +44,8 @@ def explain_load_failure(error_text, glibc=None, python=None):
     if "GLIBCXX_" in error_text or "CXXABI_" in error_text:
         return ("This Linux system's C++ runtime (libstdc++) is older than paramorph needs (that of GCC 11, "
                 "as in Debian 12, Ubuntu 22.04 or RHEL 9 and later); update the system to use paramorph.")
-    if python != PYTHON and ("cpython-" in error_text or "No module named" in error_text
-                             or "undefined symbol: Py" in error_text):
-        return (f"paramorph's native module is built for Python {_version(PYTHON)} (Blender 4.2 to 5.0); "
-                f"this Blender runs Python {_version(python)}.")
+    if python not in PYTHONS and ("cpython-" in error_text or "No module named" in error_text
+                                  or "undefined symbol: Py" in error_text):
+        return (f"paramorph's native module is built for Python {' and '.join(map(_version, PYTHONS))} "
+                f"(Blender 4.2 to 5.0, and 5.1 on); this Blender runs Python {_version(python)}.")
     return ""

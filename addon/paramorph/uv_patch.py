@@ -153,8 +153,9 @@ def pack_free_islands(results, islands, margin):
 def _area(V, F):
     """Total area of triangles F over points V (2 or 3 columns)."""
     a, b, c = V[F[:, 0]], V[F[:, 1]], V[F[:, 2]]
-    if V.shape[1] == 2:
-        return 0.5 * float(np.abs(np.cross(b - a, c - a)).sum())
+    if V.shape[1] == 2:  # written out: NumPy 2 dropped np.cross of 2-vectors
+        (ux, uy), (vx, vy) = (b - a).T, (c - a).T
+        return 0.5 * float(np.abs(ux * vy - uy * vx).sum())
     return 0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
 
 

@@ -7,7 +7,8 @@
 
 #define PARAMORPH_STR2(x) #x
 #define PARAMORPH_STR(x) PARAMORPH_STR2(x)
-#define PARAMORPH_PYBIND11_VERSION PARAMORPH_STR(PYBIND11_VERSION_MAJOR) "." PARAMORPH_STR(PYBIND11_VERSION_MINOR)
+#define PARAMORPH_PYBIND11_VERSION \
+  PARAMORPH_STR(PYBIND11_VERSION_MAJOR) "." PARAMORPH_STR(PYBIND11_VERSION_MINOR) "." PARAMORPH_STR(PYBIND11_VERSION_PATCH)
 
 namespace {
 
@@ -15,6 +16,8 @@ namespace {
 /// layout: with NumPy 2.4 every int32 array the module returns came back
 /// as zeros (a morph's vertex_of_a) and landmarks landed 48 % of the
 /// diagonal off, without an error. Refuse to load rather than answer wrong.
+/// Decided when compiling: a build with pybind11 >= 2.12 (PyPI's, for
+/// CPython 3.13 and Blender 5.x) reads NumPy 1 and 2 alike.
 void require_numpy_this_build_reads() {
 #if PYBIND11_VERSION_HEX < 0x020C0000
   const std::string version = pybind11::module_::import("numpy").attr("__version__").cast<std::string>();
@@ -40,10 +43,12 @@ PYBIND11_MODULE(paramorph_native, m) {
         pybind11::dict info;
         info["version"] = PARAMORPH_VERSION;
         info["ipopt"] = paramorph::morph::ipopt_available();
+        info["pybind11"] = PARAMORPH_PYBIND11_VERSION;
         return info;
       },
       "What this build has: {'version': str, 'ipopt': bool (optimize_sphere_map's Ipopt polish; the\n"
-      "released wheel leaves Ipopt out, see README)}.");
+      "released wheel leaves Ipopt out, see README), 'pybind11': str (the pybind11 it was built with;\n"
+      "before 2.12 the module refuses NumPy 2)}.");
   paramorph::python::bind_errors(m);
   paramorph::python::bind_mesh(m);
   paramorph::python::bind_compute(m);

@@ -157,8 +157,8 @@ def boundary_vertices(F):
 
 
 def signed_uv_areas(uv, F):
-    a, b, c = uv[F[:, 0]], uv[F[:, 1]], uv[F[:, 2]]
-    return 0.5 * np.cross(b - a, c - a)
+    (ux, uy), (vx, vy) = (uv[F[:, 1]] - uv[F[:, 0]]).T, (uv[F[:, 2]] - uv[F[:, 0]]).T
+    return 0.5 * (ux * vy - uy * vx)  # not np.cross: NumPy 2 dropped 2-vectors
 
 
 def areas_3d(V, F):

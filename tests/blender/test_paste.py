@@ -375,7 +375,10 @@ def test_new_faces_take_uvs_and_colours_from_the_faces_they_replaced():
     rgba = np.ones((len(mesh.loops), 4), dtype=np.float32)
     rgba[:, 0] = V0[loop_vertex, 2]
     colour.data.foreach_set("color", rgba.ravel())
+    chosen = (mesh.uv_layers.active.name, [layer.active_render for layer in mesh.uv_layers])
     assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6)) == {"FINISHED"}
+    # The artist's active and render UV maps stay theirs (5.x's BMesh round trip resets both).
+    assert (mesh.uv_layers.active.name, [layer.active_render for layer in mesh.uv_layers]) == chosen
 
     V = coordinates(mesh)
     loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)

@@ -9,8 +9,8 @@ import paramorph_native as pm
 
 
 def signed_areas(uv, F):
-    a, b, c = uv[F[:, 0]], uv[F[:, 1]], uv[F[:, 2]]
-    return np.cross(b - a, c - a)
+    (ux, uy), (vx, vy) = (uv[F[:, 1]] - uv[F[:, 0]]).T, (uv[F[:, 2]] - uv[F[:, 0]]).T
+    return ux * vy - uy * vx  # not np.cross: NumPy 2 dropped 2-vectors
 
 
 def to_source(feature, X):

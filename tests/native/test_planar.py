@@ -9,8 +9,8 @@ import planar_meshes
 
 
 def folded(uv, F):
-    a, b, c = uv[F[:, 0]], uv[F[:, 1]], uv[F[:, 2]]
-    return np.flatnonzero(np.cross(b - a, c - a) <= 0)
+    (ux, uy), (vx, vy) = (uv[F[:, 1]] - uv[F[:, 0]]).T, (uv[F[:, 2]] - uv[F[:, 0]]).T
+    return np.flatnonzero(ux * vy - uy * vx <= 0)  # not np.cross: NumPy 2 dropped 2-vectors
 
 
 def boundary_vertices(V, F):
