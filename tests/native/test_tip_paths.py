@@ -66,14 +66,23 @@ def test_a_hanging_tail_finds_a_raised_one():
     assert chosen.tip_disagreement < 0.5
 
 
-@needs_models
-@pytest.mark.parametrize("pair", list(itertools.permutations(["cat", "lion", "horned-cow"], 2)),
-                         ids=lambda p: f"{p[0]}-{p[1]}")
-def test_real_animals_land_every_landmark_nearest_its_own(pair):
+ANIMAL_PAIRS = list(itertools.permutations(["cat", "lion", "horned-cow"], 2))
+
+
+def animal_pair(pair):
+    """Both meshes and their landmark vertices in the same order (A's names)."""
     marks = json.loads((MODELS / "landmarks.json").read_text())
+    names = list(marks[f"{pair[0]}.obj"])
     (VA, FA), (VB, FB) = load(pair[0]), load(pair[1])
-    LA = np.array(list(marks[f"{pair[0]}.obj"].values()))
-    LB = np.array([marks[f"{pair[1]}.obj"][name] for name in marks[f"{pair[0]}.obj"]])
+    LA = np.array([marks[f"{pair[0]}.obj"][n] for n in names])
+    LB = np.array([marks[f"{pair[1]}.obj"][n] for n in names])
+    return VA, FA, LA, VB, FB, LB, names
+
+
+@needs_models
+@pytest.mark.parametrize("pair", ANIMAL_PAIRS, ids=lambda p: f"{p[0]}-{p[1]}")
+def test_real_animals_land_every_landmark_nearest_its_own(pair):
+    VA, FA, LA, VB, FB, LB, _ = animal_pair(pair)
     m = pm.morph(VA, FA, VB, FB)
     errors, own = landmark_errors(m, LA, VB, LB)
     print(pair, np.round(100 * errors, 1), m.candidates[m.chosen])
@@ -83,15 +92,13 @@ def test_real_animals_land_every_landmark_nearest_its_own(pair):
 
 
 @needs_models
-@pytest.mark.parametrize("pair", list(itertools.permutations(["cat", "lion", "horned-cow"], 2)),
-                         ids=lambda p: f"{p[0]}-{p[1]}")
+@pytest.mark.parametrize("pair", ANIMAL_PAIRS, ids=lambda p: f"{p[0]}-{p[1]}")
 def test_real_animals_with_four_hooves_pinned_morph_and_hold_the_pins(pair):
     # Never an error with consistent pins: a hoof's tip beside its pin is
     # not paired as well (the two held apart stalled lion -> horned cow).
-    marks = json.loads((MODELS / "landmarks.json").read_text())
-    (VA, FA), (VB, FB) = load(pair[0]), load(pair[1])
-    hooves = [name for name in marks[f"{pair[0]}.obj"] if name.endswith("hoof")]
-    pins = np.array([[marks[f"{pair[0]}.obj"][h], marks[f"{pair[1]}.obj"][h]] for h in hooves])
+    VA, FA, LA, VB, FB, LB, names = animal_pair(pair)
+    hooves = [k for k, name in enumerate(names) if name.endswith("hoof")]
+    pins = np.stack([LA[hooves], LB[hooves]], axis=1)
     m = pm.morph(VA, FA, VB, FB, pins=pins)
     np.testing.assert_array_equal(np.asarray(m.target)[np.asarray(m.vertex_of_a)[pins[:, 0]]], VB[pins[:, 1]])
     assert folded_faces(m) == 0
