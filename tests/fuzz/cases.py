@@ -40,7 +40,7 @@ KNOWN_FINDINGS = ()  # (function, error type, message regex, why): none open
 # Classes the module returns but that Python cannot construct (no __init__):
 # their methods are still fuzzed, through entries "Class.method" below.
 RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "ProgressiveSphereMap", "CorrespondenceCandidate",
-                "ExtremityTips", "Feature", "FeatureMatch", "FeaturePoints",
+                "ExtremityTips", "Feature", "FeatureMatch", "FeaturePoints", "ProtrusionTips",
                 "IsometricSphereMap", "MapDistortion", "MergedTopology", "MeshReport", "Morph",
                 "MorphCorrespondence", "OptimizedSphereMap", "OverlayStats", "PlanarMap",
                 "RefinedRegion", "RegionGraph", "RepairReport", "RepairResult", "Segmentation", "SelfIntersections",
@@ -51,7 +51,7 @@ NAN, INF = float("nan"), float("inf")
 # Keyword options that bound the work a call does (iterations, steps, rings): a
 # huge value makes a long run the caller asked for, so a timeout with one over
 # 1e5 is reported apart ("slow_budget"), not as a hang.
-BUDGET_OPTIONS = ("max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations")
+BUDGET_OPTIONS = ("max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations", "samples")
 
 
 def public_callables(module):
@@ -520,6 +520,12 @@ def gen_extremity_tips(g):
     return (m.V, m.F, _segmentation(g, m)), g.options({"prominence": ("float", 0.0, 0.5)})
 
 
+def gen_protrusion_tips(g):
+    m = g.mesh("closed")
+    return (m.V, m.F), g.options({"radius": ("float", 1e-3, 2.0), "samples": ("int", 1, 300),
+                                  "max_tips": ("int", 0, 50)})
+
+
 def gen_region_graph(g):
     m = g.mesh("closed")
     return (m.V, m.F, _segmentation(g, m)), g.options({"long_edge_factor": ("float", 0.1, 10.0)})
@@ -951,6 +957,7 @@ TABLE = {
                                  "progress": PROGRESS}),
     "require_closed_genus0": _mesh_only("any", {"relative_area_tolerance": ("float", 1e-16, 1e-6)}),
     "progressive_sphere_map": gen_progressive_sphere_map,
+    "protrusion_tips": gen_protrusion_tips,
     "sample_feature": gen_sample_feature,
     "segment_extremities": gen_segment_extremities,
     "self_intersections": gen_self_intersections,
