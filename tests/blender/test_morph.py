@@ -108,7 +108,7 @@ def test_morph_to_builds_a_shape_keyed_object_on_the_merged_topology(capfd):
                                   in_betweens=1, interpolation="LINEAR", easing="LINEAR")
     assert status == {"FINISHED"}
     # The report names the chosen candidate and its score, and what holds exactly.
-    assert re.search(r"Morph To: Blob to Octopus, \d+ faces \([0-9.]+x the inputs' \d+\)[^;]*; chosen \w+ — .*score [0-9.e+-]+; "
+    assert re.search(r"Morph To: Blob to Octopus, \d+ faces \([0-9.]+x the inputs' \d+\)[^;]*; chosen [\w ]+ — .*score [0-9.e+-]+; "
                      r"0 pins and \d+ pairs? held exactly", report), report
     (morph,) = set(bpy.data.objects) - objects_before
     assert bpy.context.view_layer.objects.active == morph and morph.name == "Blob to Octopus"
