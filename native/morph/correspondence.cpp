@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -15,6 +16,7 @@
 #include "common/errors.h"
 #include "common/principal_axes.h"
 #include "features/min_cost_assignment.h"
+#include "features/mirror_plane.h"
 #include "features/protrusion_tips.h"
 #include "mesh/closest_points.h"
 #include "mesh/edge_path_distances.h"
@@ -61,6 +63,7 @@ struct Side {
   std::vector<Index> model_tip;             ///< per tip: the model's peak of distance from the body it stands for
   features::ProtrusionTips protrusions;     ///< on the proxy (tip_path_pairs)
   std::vector<Index> protrusion_model_tip;  ///< per protrusion tip: the model's peak of distance from the core
+  VectorXd protrusion_loneliness;           ///< per protrusion tip: how alone it is under the proxy's mirror plane
   std::shared_ptr<const ClosestPointTree> tree;  ///< over the proxy, to read model points on its map
 
   /// Where model vertices are on the proxy's map: at their closest points
@@ -90,10 +93,10 @@ Index nearest_vertex(const MatrixX3d& V, const Eigen::RowVector3d& p) {
 /// core) to its peak, no farther than `reach` from the proxy's tip: the
 /// proxy's tip is a proxy edge short of the end, and an unbounded climb from
 /// a muzzle ran over the head to a horn.
-std::vector<Index> climb_model_tips(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& proxy_V,
+std::vector<Index> climb_model_tips(const TriMesh& mesh, const MatrixX3d& proxy_V,
                                     const std::vector<Index>& proxy_tips, const std::vector<Index>& from,
                                     double reach = std::numeric_limits<double>::infinity()) {
-  const TriMesh mesh(V, F);
+  const MatrixX3d& V = mesh.V();
   VectorXd dist = from.empty() ? VectorXd::Zero(V.rows()) : edge_path_distances(mesh, from);
   for (Index v = 0; v < dist.size(); ++v)
     if (!std::isfinite(dist[v])) dist[v] = 0;
@@ -133,11 +136,22 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
     return spherical::balanced_sphere_map(side.V, side.F, {}, p).positions;
   });
   side.map = side.map * best_rotation(side.map, side.V.rowwise().normalized(), side.area);
+  // The model's own mesh for climbing to its tips: built once for both
+  // kinds of tip (97k faces: a tenth of a second each).
+  std::optional<TriMesh> model_mesh;
+  auto model = [&]() -> const TriMesh& {
+    if (!model_mesh) model_mesh.emplace(V, F);
+    return *model_mesh;
+  };
   if (o.extremities && o.tip_paths) {
     features::ProtrusionOptions protrusion;
     protrusion.radius = o.protrusion_radius;
     side.protrusions = features::protrusion_tips(side.V, side.F, protrusion);
-    side.protrusion_model_tip = climb_model_tips(V, F, side.V, side.protrusions.vertices,
+    MatrixX3d tip_points(Index(side.protrusions.vertices.size()), 3);
+    for (Index t = 0; t < tip_points.rows(); ++t) tip_points.row(t) = side.V.row(side.protrusions.vertices[std::size_t(t)]);
+    side.protrusion_loneliness =
+        features::mirror_loneliness(tip_points, features::mirror_plane(side.V, side.F, side.area));
+    side.protrusion_model_tip = climb_model_tips(model(), side.V, side.protrusions.vertices,
                                                  {nearest_vertex(V, side.V.row(side.protrusions.core))},
                                                  o.protrusion_radius / 3);
   }
@@ -176,7 +190,7 @@ Side build_side(const MatrixX3d& V, const MatrixX3i& F, const CorrespondenceOpti
   for (Index v = 0; v < V.rows(); ++v)
     if (side.extremities->face_labels[on.face[v]] == side.tips.body) body.push_back(v);
   if (progress) progress->report(0.96, "model tips");
-  side.model_tip = climb_model_tips(V, F, side.V, side.tips.vertices, body);
+  side.model_tip = climb_model_tips(model(), side.V, side.tips.vertices, body);
   return side;
 }
 
@@ -352,7 +366,8 @@ std::vector<TipPathPair> unpinned_tip_path_pairs(const Side& A, const Side& B, c
                                                  const Eigen::Matrix3d& rotation, const CorrespondenceOptions& o) {
   std::vector<TipPathPair> out;
   for (const TipPathPair& pair : tip_path_pairs(A.V, A.area, A.protrusions, B.V * rotation.transpose(), B.area,
-                                                B.protrusions, o.tip_path_samples, o.tip_path_cost)) {
+                                                B.protrusions, o.tip_path_samples, o.tip_path_cost,
+                                                A.protrusion_loneliness, B.protrusion_loneliness, o.mirror_weight)) {
     bool pinned = false;
     for (const auto& pin : pins)
       pinned = pinned || (A.V.row(pair.a) - VA.row(pin[0])).norm() < 0.5 * o.protrusion_radius ||
@@ -384,7 +399,8 @@ std::vector<Start> shape_starts(const Side& A, const Side& B) {
 /// the one "given" candidate.
 std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
                                  const Pairs& pins, const std::optional<Pairs>& given,
-                                 const CorrespondenceOptions& o, Progress* progress) {
+                                 const std::vector<TipPathPair>& placed_tip_pairs, const CorrespondenceOptions& o,
+                                 Progress* progress) {
   std::vector<Raw> raw;
   if (given) {
     Pairs proxy;
@@ -425,7 +441,9 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
     const std::vector<Start> starts = shape_starts(A, B);
     if (o.extremities && o.tip_paths) {
       for (const Start& start : starts) {
-        const std::vector<TipPathPair> paired = unpinned_tip_path_pairs(A, B, VA, VB, pins, start.rotation, o);
+        const std::vector<TipPathPair> paired = start.rotation == Eigen::Matrix3d::Identity()
+                                                    ? placed_tip_pairs
+                                                    : unpinned_tip_path_pairs(A, B, VA, VB, pins, start.rotation, o);
         if (paired.size() < 2) continue;
         Raw r{"tip paths", "", {}, Eigen::Matrix3d::Identity(), {}};
         double cost = 0;
@@ -514,10 +532,11 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
                  std::isfinite(o.registered_tip_distance) && o.registered_tip_distance > 0 &&
                  std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0 &&
                  std::isfinite(o.protrusion_radius) && o.protrusion_radius > 0 && o.tip_path_samples >= 2 &&
-                 std::isfinite(o.tip_path_cost) && o.tip_path_cost > 0,
+                 std::isfinite(o.tip_path_cost) && o.tip_path_cost > 0 && std::isfinite(o.mirror_weight) &&
+                 o.mirror_weight >= 0,
              InvalidInputError,
              "proxy_faces >= 100, max_tips >= 1, tip_angle, registered_tip_distance, protrusion_radius and tip_path_cost > 0, "
-             "tip_path_samples >= 2, pin_radius and fallbacks >= 0");
+             "tip_path_samples >= 2, pin_radius, mirror_weight and fallbacks >= 0");
   Correspondence out;
   auto clock = std::chrono::steady_clock::now();
   auto mark = [&](const char* stage) {
@@ -540,14 +559,14 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
     const PinOrder order = points_order(pin_points);
     PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
   }
-  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, o, progress);
-  mark("candidates");
-  // The tips' own pairing as the models are placed: every candidate is
-  // scored for keeping it (tip_disagreement).
+  // The tips' own pairing as the models are placed: a candidate, and every
+  // candidate is scored for keeping it (tip_disagreement).
   const std::vector<TipPathPair> placed_tip_pairs =
       !given && o.extremities && o.tip_paths
           ? unpinned_tip_path_pairs(A, B, VA, VB, pins, Eigen::Matrix3d::Identity(), o)
           : std::vector<TipPathPair>{};
+  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, placed_tip_pairs, o, progress);
+  mark("candidates");
 
   // A proxy pair within pin_radius of a pin on either model.
   auto near_pin = [&](const std::array<Index, 2>& pair) {

@@ -88,6 +88,10 @@ struct CorrespondenceOptions {
   /// model's spreads) are not paired: the right pairs of a cat, a lion and a
   /// scanned cow cost 0.4-1.75 (a raised tail against a hanging one the most).
   double tip_path_cost = 2.0;
+  /// Added to a tip pair's cost per unit of difference in how alone the two
+  /// tips are under their models' mirror planes (features/mirror_plane): a
+  /// muzzle or a tail against an ear, a horn or a foot (0 leaves the mirror out).
+  double mirror_weight = 0.5;
   /// With 3+ pins: tips whose distances to the pins (as unit vectors) are
   /// closer than this pair (tips_by_pin_distances).
   double pin_distance_match = 0.08;

@@ -50,16 +50,26 @@ Eigen::MatrixXd sampled_paths(const MatrixX3d& V, const VectorXd& area, const fe
 
 std::vector<TipPathPair> tip_path_pairs(const MatrixX3d& VA, const VectorXd& area_a, const features::ProtrusionTips& tips_a,
                                         const MatrixX3d& VB, const VectorXd& area_b, const features::ProtrusionTips& tips_b,
-                                        int samples, double max_cost) {
+                                        int samples, double max_cost, const VectorXd& loneliness_a,
+                                        const VectorXd& loneliness_b, double mirror_weight) {
   PM_REQUIRE(samples >= 2 && area_a.size() == VA.rows() && area_b.size() == VB.rows() && area_a.sum() > 0 &&
                  area_b.sum() > 0,
              InvalidInputError, "tip_path_pairs: two or more samples and a positive area per vertex row");
+  const bool mirrored = loneliness_a.size() > 0 || loneliness_b.size() > 0;
+  PM_REQUIRE(!mirrored || (loneliness_a.size() == Index(tips_a.paths.size()) &&
+                           loneliness_b.size() == Index(tips_b.paths.size())),
+             InvalidInputError, "tip_path_pairs: a loneliness per tip of each model, or none for either");
+  PM_REQUIRE(std::isfinite(mirror_weight) && mirror_weight >= 0, InvalidInputError,
+             "tip_path_pairs: mirror_weight >= 0");
   std::vector<TipPathPair> out;
   if (tips_a.paths.empty() || tips_b.paths.empty()) return out;
   const Eigen::MatrixXd pa = sampled_paths(VA, area_a, tips_a, samples), pb = sampled_paths(VB, area_b, tips_b, samples);
   Eigen::MatrixXd cost(pa.rows(), pb.rows());
   for (Index i = 0; i < pa.rows(); ++i)
-    for (Index j = 0; j < pb.rows(); ++j) cost(i, j) = std::sqrt((pa.row(i) - pb.row(j)).squaredNorm() / samples);
+    for (Index j = 0; j < pb.rows(); ++j) {
+      cost(i, j) = std::sqrt((pa.row(i) - pb.row(j)).squaredNorm() / samples);
+      if (mirrored) cost(i, j) += mirror_weight * std::abs(loneliness_a[i] - loneliness_b[j]);
+    }
   const std::vector<Index> assigned = features::min_cost_assignment(cost);
   for (Index i = 0; i < pa.rows(); ++i) {
     const Index j = assigned[std::size_t(i)];

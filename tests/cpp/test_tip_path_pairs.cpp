@@ -85,3 +85,33 @@ TEST(TipPathPairs, RefusesTooFewSamplesAndMismatchedAreas) {
   EXPECT_THROW(morph::tip_path_pairs(a.V, VectorXd::Ones(3), a.tips, a.V, a.area, a.tips, 5, 1.0), InvalidInputError);
   EXPECT_TRUE(morph::tip_path_pairs(a.V, a.area, {}, a.V, a.area, a.tips, 5, 1.0).empty());
 }
+
+TEST(TipPathPairs, TheMirrorOutweighsPathsThatCannotTellTwoTipsApart) {
+  // B's -x and -y paths both run out to the lower left, so either pairing
+  // of them costs nearly the same; A's -x tip is alone under the
+  // mirror (a muzzle) and its -y tip one of a pair (an ear); on B it is the
+  // other way round. With the mirror term the lonely tips pair.
+  const Star a = star(1.0, 1.0, {0, 1, 2});
+  Star b = star(1.0, 1.0, {0, 1, 2});
+  b.V.row(3) << -0.45, -0.2, 0;
+  b.V.row(4) << -0.75, -0.6, 0;
+  b.V.row(5) << -0.2, -0.45, 0;
+  b.V.row(6) << -0.6, -0.75, 0;
+  VectorXd alone_a(3), alone_b(3);
+  alone_a << 1, 1, 0;
+  alone_b << 1, 0, 1;
+  const auto plain = morph::tip_path_pairs(a.V, a.area, a.tips, b.V, b.area, b.tips, 5, 10.0);
+  ASSERT_EQ(plain.size(), 3u);
+  for (const auto& pair : plain) EXPECT_EQ(pair.a, pair.b);
+  const auto mirrored = morph::tip_path_pairs(a.V, a.area, a.tips, b.V, b.area, b.tips, 5, 10.0, alone_a, alone_b, 2.0);
+  ASSERT_EQ(mirrored.size(), 3u);
+  for (const auto& pair : mirrored) {
+    if (pair.a == 2) EXPECT_EQ(pair.b, 2);  // +x: the tail either way
+    if (pair.a == 4) EXPECT_EQ(pair.b, 6);
+    if (pair.a == 6) EXPECT_EQ(pair.b, 4);
+  }
+  EXPECT_THROW(morph::tip_path_pairs(a.V, a.area, a.tips, b.V, b.area, b.tips, 5, 10.0, alone_a, VectorXd(), 1.0),
+               InvalidInputError);
+  EXPECT_THROW(morph::tip_path_pairs(a.V, a.area, a.tips, b.V, b.area, b.tips, 5, 10.0, alone_a, alone_b, -1.0),
+               InvalidInputError);
+}

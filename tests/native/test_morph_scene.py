@@ -83,12 +83,15 @@ needs_models = pytest.mark.skipif(not (MODELS / "landmarks.json").exists(), reas
 
 
 @needs_models
-def test_real_cat_into_lion_the_same_however_turned_and_every_landmark_nearest_its_own():
+@pytest.mark.parametrize("a, b", [("cat", "lion"), ("horned-cow", "lion")])
+def test_real_animals_the_same_however_turned_and_every_landmark_nearest_its_own(a, b):
+    # horned cow -> lion: its landmarks moved 52 % with the scene before the
+    # shape's own frame, and its muzzle went to an ear before the mirror.
     marks = json.loads((MODELS / "landmarks.json").read_text())
-    (VA, FA), (VB, FB) = load("cat"), load("lion")
-    names = list(marks["cat.obj"])
-    LA = np.array([marks["cat.obj"][n] for n in names])
-    LB = np.array([marks["lion.obj"][n] for n in names])
+    (VA, FA), (VB, FB) = load(a), load(b)
+    names = list(marks[f"{a}.obj"])
+    LA = np.array([marks[f"{a}.obj"][n] for n in names])
+    LB = np.array([marks[f"{b}.obj"][n] for n in names])
     answers = turned_answers(VA, FA, VB, FB, LA, [TURNS[0], TURNS[3]])
     diagonal = np.linalg.norm(np.ptp(VB, axis=0))
     for points, _ in answers:

@@ -86,9 +86,10 @@ def test_real_animals_land_every_landmark_nearest_its_own(pair):
     m = pm.morph(VA, FA, VB, FB)
     errors, own = landmark_errors(m, LA, VB, LB)
     print(pair, np.round(100 * errors, 1), m.candidates[m.chosen])
-    # The issue asks 5 % mean and 10 % each; the scanned cow's lowered head
-    # still sends a muzzle to an ear (16-19 %): this guards what holds.
-    assert own.all() and errors.mean() < 0.10
+    # The scanned cow grazes: its muzzle points down and its ears forward-up
+    # like a cat's muzzle; only the mirror (ears come in twins) tells them
+    # apart (16-19 % before it).
+    assert own.all() and errors.mean() <= 0.05 and errors.max() <= 0.10
 
 
 @needs_models
@@ -102,4 +103,11 @@ def test_real_animals_with_four_hooves_pinned_morph_and_hold_the_pins(pair):
     m = pm.morph(VA, FA, VB, FB, pins=pins)
     np.testing.assert_array_equal(np.asarray(m.target)[np.asarray(m.vertex_of_a)[pins[:, 0]]], VB[pins[:, 1]])
     assert folded_faces(m) == 0
-    print(pair, m.candidates[m.chosen], list(m.fallbacks))
+    errors, own = landmark_errors(m, LA, VB, LB)
+    print(pair, np.round(100 * errors, 1), m.candidates[m.chosen], list(m.fallbacks))
+    muzzle, tail = errors[names.index("muzzle")], errors[names.index("tail")]
+    assert own.all() and muzzle <= 0.05
+    # The horned cow's tail landmark is the back-most point of its hanging
+    # tail, 8.8 % of its diagonal above the tail's end: a cat's or a lion's
+    # tail tip lands on the end, and the cow's landmark half way up theirs.
+    assert tail <= (0.10 if "horned-cow" in pair else 0.05)
