@@ -19,7 +19,7 @@ MatrixX3d reflect(const MatrixX3d& V, const Eigen::RowVector3d& normal, double o
   return V - 2.0 * side * normal;
 }
 
-double median(VectorXd values) {
+double median(const VectorXd& values) {
   std::vector<double> sorted(values.data(), values.data() + values.size());
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
   return sorted[sorted.size() / 2];
