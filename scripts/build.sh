@@ -23,6 +23,8 @@ source scripts/python-for.sh
 # between build directories.
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+# Paths inside the checkout hashed relative to it: another clone (CI's) hits.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}
 
 # A build folder made for another Python keeps it: rebuilding build-cp313
 # (PARAMORPH_BUILD_DIR=build-cp313 scripts/build.sh, as the scripts that

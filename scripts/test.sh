@@ -4,10 +4,11 @@
 # Blender-side tests (pytest inside blender -b; the one GUI test, a real
 # Blender window under Xvfb) and, when PyPI is reachable, the release and
 # every Blender it is for: the manylinux_2_28 wheels for CPython 3.11 and 3.13
-# and the extension (scripts/release.sh; its static dependencies build
-# beside the tests, at the lowest priority), tests/blender in PyPI bpy 4.5
-# (CPython 3.11) and bpy 5.2 (3.13) with the release installed from the zip,
-# and the wheels in fresh Debian 11, 12 and 13 roots (scripts/prove-portable.sh).
+# and the extension (scripts/release.sh; the modules and their static
+# dependencies build beside the tests, at the lowest priority), then at once
+# tests/blender in PyPI bpy 4.5 (CPython 3.11) and bpy 5.2 (3.13) with the
+# release installed from the zip, and the wheels in fresh Debian 11, 12 and
+# 13 roots (scripts/prove-portable.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
@@ -15,14 +16,41 @@ stage() { echo "== $* [$(date -u +%T), $((SECONDS / 60)) min in]"; }
 scripts/install-deps.sh
 scripts/build.sh
 
-# The release's static dependencies (scripts/manylinux/build.sh --deps-only:
-# about 20 minutes of two cores the first time on a machine, then kept under
-# ~/.cache/paramorph/manylinux) build while the tests run, at nice 19.
+# Beside the tests, at nice 19 and each in its own process group (so an
+# early exit stops them whole): the release's manylinux_2_28 modules for
+# CPython 3.11 and 3.13 (scripts/manylinux/build.sh: its static
+# dependencies, about 15 minutes of two cores the first time on a machine and
+# then kept under ~/.cache/paramorph/manylinux, then the modules, which
+# ccache shares with earlier builds), and the PyPI bpy 4.5 and 5.2 venvs.
 mkdir -p out
-deps_log=$PWD/out/manylinux-deps.log
-nice -n 19 scripts/manylinux/build.sh --deps-only > "$deps_log" 2>&1 &
-deps_pid=$!
-trap 'kill "$deps_pid" 2>/dev/null || true' EXIT
+rm -rf out/manylinux-wheels
+setsid nice -n 19 scripts/manylinux/build.sh out/manylinux-wheels 3.11 3.13 > out/manylinux-build.log 2>&1 &
+modules_pid=$!
+setsid bash -c 'scripts/bpy-venv.sh && scripts/bpy-venv.sh 5.2' > out/bpy-venv.log 2>&1 &
+bpy_pid=$!
+trap 'kill -- -"$modules_pid" -"$bpy_pid" 2>/dev/null || true' EXIT
+
+# `together NAME CMD... -- NAME CMD...`: the commands at once, each into
+# out/NAME.log; each log's last lines (a failing one whole) once all end.
+together() {
+  local names=() pids=() name status=0 i
+  while [ $# -gt 0 ]; do
+    name=$1; shift
+    local cmd=()
+    while [ $# -gt 0 ] && [ "$1" != -- ]; do cmd+=("$1"); shift; done
+    [ $# -eq 0 ] || shift
+    "${cmd[@]}" > "out/$name.log" 2>&1 &
+    names+=("$name"); pids+=($!)
+  done
+  for i in "${!pids[@]}"; do
+    if wait "${pids[$i]}"; then
+      echo "-- ${names[$i]}:"; tail -n 4 "out/${names[$i]}.log"
+    else
+      echo "-- ${names[$i]} FAILED:"; cat "out/${names[$i]}.log"; status=1
+    fi
+  done
+  return $status
+}
 
 stage "C++ unit tests (ctest)"
 ctest --test-dir "$PARAMORPH_BUILD_DIR" --output-on-failure -j2
@@ -53,31 +81,30 @@ blender -b --factory-startup --python-exit-code 1 \
 stage "GUI test (blender in a window under xvfb-run)"
 /usr/bin/python3 -m pytest tests/gui -q -p no:cacheprovider
 
-stage "PyPI bpy 4.5 and 5.2 (scripts/bpy-venv.sh)"
-scripts/bpy-venv.sh
-scripts/bpy-venv.sh 5.2
+stage "PyPI bpy 4.5 and 5.2 (scripts/bpy-venv.sh, beside the tests)"
+wait "$bpy_pid" || { cat out/bpy-venv.log; exit 1; }
+tail -n 4 out/bpy-venv.log
 if [ -x .venv-bpy/bin/python ] && [ -x .venv-bpy52/bin/python ]; then
-  stage "release: waiting for the static dependencies"
-  wait "$deps_pid" || { tail -n 40 "$deps_log"; echo "the release's dependencies failed: $deps_log"; exit 1; }
-  tail -n 12 "$deps_log"
-  stage "release: manylinux_2_28 wheels for CPython 3.11 and 3.13 and the extension (scripts/release.sh)"
-  PARAMORPH_RELEASE_PYTHONS="3.11 3.13" scripts/release.sh
-  # tests/blender in Blender 4.5 (CPython 3.11, the development build) and in
-  # Blender 5.2 (3.13, the release's own cp313 module): the release
-  # extension's install test must run, not skip, in both.
-  stage "Blender 4.5 tests (pytest with PyPI bpy 4.5)"
-  PARAMORPH_REQUIRE_RELEASE=1 .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider
-  stage "Blender 5.2 tests (pytest with PyPI bpy 5.2)"
+  stage "release: waiting for the modules (out/manylinux-build.log)"
+  wait "$modules_pid" || { tail -n 40 out/manylinux-build.log; echo "the release's modules failed"; exit 1; }
+  tail -n 14 out/manylinux-build.log
+  stage "release: the wheels checked and tagged manylinux_2_28, and the extension (scripts/release.sh)"
+  scripts/release.sh --built out/manylinux-wheels
   rm -rf build-release-cp313 && mkdir -p build-release-cp313/python
   /usr/bin/python3 -m zipfile -e "$(ls dist/paramorph-*-cp313-cp313-manylinux_2_28_x86_64.whl)" build-release-cp313/python
-  PARAMORPH_BUILD_DIR=build-release-cp313 PARAMORPH_REQUIRE_RELEASE=1 \
-    .venv-bpy52/bin/python -m pytest tests/blender -q -p no:cacheprovider
-  if [ "$(id -u)" -eq 0 ]; then
-    stage "the wheels in fresh minimal Debian 11, 12 and 13 roots (scripts/prove-portable.sh --tests quick)"
-    scripts/prove-portable.sh --tests quick --no-blender  # the install tests ran above
-  else
-    echo "skipped: scripts/prove-portable.sh needs root (debootstrap, chroot)"
-  fi
+  # tests/blender in Blender 4.5 (CPython 3.11, the development build) and in
+  # Blender 5.2 (3.13, the release's own cp313 module), the release
+  # extension's install test run (not skipped) in both; and the wheels in
+  # fresh minimal Debian 11, 12 and 13 roots: all three at once.
+  stage "Blender 4.5 and 5.2 tests (pytest with PyPI bpy), the wheels in Debian 11, 12 and 13 roots"
+  portable=(echo "skipped: scripts/prove-portable.sh needs root (debootstrap, chroot)")
+  # --no-blender: the install tests run in the suites beside it.
+  [ "$(id -u)" -ne 0 ] || portable=(scripts/prove-portable.sh --tests quick --no-blender)
+  together \
+    blender-4.5 env PARAMORPH_REQUIRE_RELEASE=1 .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider -- \
+    blender-5.2 env PARAMORPH_BUILD_DIR=build-release-cp313 PARAMORPH_REQUIRE_RELEASE=1 \
+      .venv-bpy52/bin/python -m pytest tests/blender -q -p no:cacheprovider -- \
+    portable "${portable[@]}"
 else
   echo "skipped: no .venv-bpy or .venv-bpy52 (scripts/bpy-venv.sh creates them; it needs PyPI)"
 fi

@@ -74,6 +74,7 @@ cp "$(dirname "$PARAMORPH_ZIG")/LICENSE" "$licences/zig.LICENSE.txt"  # compiler
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$PWD}  # another clone (CI's) hits
 for version in "${pythons[@]}"; do
   interpreter=$(python_for "$version")
   tag=$("$interpreter" -c 'import sys; print(f"cp{sys.version_info[0]}{sys.version_info[1]}")')

@@ -26,6 +26,9 @@ PARAMORPH_ZIG=$("$zig_venv/bin/python" -c 'import os, ziglang; print(os.path.joi
 export PARAMORPH_ZIG
 export PARAMORPH_ZIG_SYSINC=$PREFIX/sysinc
 export ZIG_GLOBAL_CACHE_DIR=$cache/zig-cache ZIG_LOCAL_CACHE_DIR=$cache/zig-cache
+# ccache (the module's build) would key the wrapper by its mtime, new in
+# every clone, and never hit: key it by what decides the code instead.
+export CCACHE_COMPILERCHECK="string:zig-$ZIG_VERSION-$(sha256sum < "$manylinux_dir/toolchain/zig" | cut -c1-12)"
 export CC=$manylinux_dir/toolchain/cc CXX=$manylinux_dir/toolchain/c++
 export AR=$manylinux_dir/toolchain/ar RANLIB=$manylinux_dir/toolchain/ranlib
 
