@@ -2,12 +2,36 @@
 in-between shapes (as rigid as possible, issue 17, or on straight lines as
 in the thesis), on the merged topology or on the source's own. Numpy and
 paramorph_native only; no bpy here."""
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import repair_mesh
 from .native import native
+
+
+@dataclass
+class RidingParts:
+    """The source's separate parts (eyes, teeth, buttons: what Repair leaves
+    out of the morphed body), carried by the body (native.PartRider)."""
+    vertices: np.ndarray   # (p,) their vertices, in the source's numbering
+    part_of: np.ndarray    # (p,) which part each vertex is in, 0..k-1
+    triangles: np.ndarray  # rows of the source's triangles that lie in them
+    riding: np.ndarray     # (k,) bool: carried (else left where it was, far from the body)
+    pushed: np.ndarray     # (k,) the most each part was pushed out of the body at a key
+    # (k,) bool: a lone vertex of the body itself that Repair left out (a
+    # seam's or a bow-tie's), carried like a part but not one.
+    stray: np.ndarray = None
+    # Merged topology: the parts' vertices in the source object's own
+    # coordinates at rest and at each key after it (the in-betweens, then
+    # the target); the kept topology has them in its own shapes.
+    basis: np.ndarray = None
+    shapes: list = field(default_factory=list)
+
+    @property
+    def separate(self):
+        """(k,) bool: a separate part (not a stray vertex of the body)."""
+        return ~self.stray
 
 
 @dataclass
@@ -29,6 +53,8 @@ class MorphOutcome:
     # The merged topology's Basis (result.source) in the source object's own
     # coordinates; None when the topology is kept.
     source: object = None
+    # The source's separate parts riding along (RidingParts), or None.
+    parts: object = None
 
 
 def key_times(in_betweens):
@@ -50,6 +76,30 @@ def _repair_both(VA, FA, VB, FB, progress, options, repair):
     return fixed_a, fixed_b, (fixed_a.V, fixed_a.F, fixed_b.V, fixed_b.F)
 
 
+def separate_parts(V_in, F_in, fixed):
+    """RidingParts (without positions) for the vertices Repair left out of
+    the source (`fixed`: its Repaired): each connected part it left out
+    whole, and each lone vertex it left out of the body's own part (a stray);
+    the triangles among them. None when there are none (or no repair)."""
+    if fixed is None:
+        return None
+    vertices = np.flatnonzero(~fixed.kept_vertices())
+    if not len(vertices):
+        return None
+    F_in = np.asarray(F_in, dtype=np.int64).reshape(-1, 3)
+    labels = np.asarray(native.vertex_parts(F_in, len(V_in)))
+    in_body = np.isin(labels[vertices], labels[fixed.kept_vertices()])
+    # Strays are parts of one vertex each, numbered after the real parts.
+    keys = np.where(in_body, labels.max() + 1 + np.arange(len(vertices)), labels[vertices])
+    _, first, part_of = np.unique(keys, return_index=True, return_inverse=True)
+    left_out = np.zeros(len(V_in), dtype=bool)
+    left_out[vertices] = True
+    triangles = np.flatnonzero(left_out[F_in].all(axis=1))
+    k = len(first)
+    return RidingParts(vertices, part_of.astype(np.int32).ravel(), triangles, np.ones(k, dtype=bool), np.zeros(k),
+                       stray=in_body[first])
+
+
 def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpolation="ARAP",
                            target_transform=None, to_local=None, keep_topology=False, repair=False, **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
@@ -61,9 +111,12 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     inverse of its transform's linear part), or None. repair: mend both
     meshes first (repair_mesh; pins and pairs are carried onto the mended
     meshes). progress(fraction, stage) -> False cancels (native.Cancelled),
-    also between in-betweens."""
-    VA_in = np.asarray(VA, dtype=np.float64)
+    also between in-betweens. The source's separate parts that repair
+    leaves out of the morph ride along the body through every key
+    (outcome.parts)."""
+    VA_in, FA_in = np.asarray(VA, dtype=np.float64), FA
     fixed_a, fixed_b, (VA, FA, VB, FB) = _repair_both(VA, FA, VB, FB, progress, options, repair)
+    parts = separate_parts(VA_in, FA_in, fixed_a)
     start = 0.1 if repair else 0.0
     share = 0.85 if in_betweens and interpolation == "ARAP" else 1.0
     result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(start + (share - start) * f, stage),
@@ -79,28 +132,42 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     if target_transform is not None:
         M = np.asarray(target_transform, dtype=np.float64)
         target = target @ M[:3, :3].T + M[:3, 3]
-    # A kept topology's shapes go back onto A's own vertices; the ones repair
-    # left out (loose, a smaller part) stay where they are.
+    local = (lambda X: X) if to_local is None else (lambda X: X @ np.asarray(to_local, dtype=np.float64).T)
+    rider = None
+    if parts is not None:
+        rider = native.PartRider(source, faces, VA_in[parts.vertices], parts.part_of)
+        parts.riding = np.asarray(rider.riding)
+        outcome.parts = parts
+        if not keep_topology:
+            parts.basis = local(VA_in[parts.vertices])
+
+    # Each body shape back in the source's own coordinates; a kept
+    # topology's onto A's own vertices, with its separate parts carried.
     def back(X):
+        if rider is not None:
+            carried, pushed = rider.at(X)
+            parts.pushed = np.maximum(parts.pushed, pushed)
         if keep_topology and fixed_a is not None:
             X = fixed_a.to_input(X, VA_in)
-        return X if to_local is None else X @ np.asarray(to_local, dtype=np.float64).T
-    outcome.target = back(target)
-    if not keep_topology:
-        outcome.source = back(source)
+            if rider is not None:
+                X[parts.vertices] = carried
+        elif rider is not None:
+            parts.shapes.append(local(carried))
+        return local(X)
     times = key_times(in_betweens)[:-1]
-    if not times:
-        return outcome
-    if interpolation == "LINEAR":
+    if interpolation == "LINEAR" or not times:
         outcome.shapes = [back((1.0 - t) * source + t * target) for t in times]
-        return outcome
-    step = (1.0 - share) / (len(times) + 1)
-    interp = native.ShapeInterpolation(source, target, faces,
-                                       progress=lambda f, stage: progress(share + step * f, "in-betweens: setup"))
-    for k, t in enumerate(times):
-        if not progress(share + step * (k + 1), f"in-between {k + 1} of {len(times)}"):
-            raise native.Cancelled("cancelled")
-        outcome.shapes.append(back(interp.at(t)))
+    else:
+        step = (1.0 - share) / (len(times) + 1)
+        interp = native.ShapeInterpolation(
+            source, target, faces, progress=lambda f, stage: progress(share + step * f, "in-betweens: setup"))
+        for k, t in enumerate(times):
+            if not progress(share + step * (k + 1), f"in-between {k + 1} of {len(times)}"):
+                raise native.Cancelled("cancelled")
+            outcome.shapes.append(back(interp.at(t)))
+    outcome.target = back(target)  # last: the parts' shapes end with the target's
+    if not keep_topology:
+        outcome.source = local(source)
     return outcome
 
 

@@ -39,10 +39,20 @@ def _polygon_values(mesh, name, dtype):
     return values
 
 
-def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops):
+class _Extra:
+    """Faces of the source copied as they are after the merged ones (its
+    separate parts riding along): their polygons and loops in the source."""
+
+    def __init__(self, poly=None, loops=None):
+        self.poly = np.zeros(0, dtype=np.int64) if poly is None else np.asarray(poly)
+        self.loops = np.zeros((0, 3), dtype=np.int64) if loops is None else np.asarray(loops).reshape(-1, 3)
+
+
+def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops, extra=_Extra()):
     """Materials, smooth shading and every UV layer of the source, through
-    the merged faces' source triangles and corner barycentrics."""
-    source_poly = tri_poly[np.asarray(result.source_face_a)]
+    the merged faces' source triangles and corner barycentrics; the `extra`
+    faces' straight from their own polygons and loops."""
+    source_poly = np.concatenate([tri_poly[np.asarray(result.source_face_a)], extra.poly])
     for material in source_mesh.materials:
         mesh.materials.append(material)
     if len(source_mesh.materials):
@@ -58,17 +68,19 @@ def _carry_source_looks(source_mesh, mesh, result, tri_poly, tri_loops):
             layer.data.foreach_get("uv", uv)
         corners = uv.reshape(-1, 2)[tri_loops.ravel()]  # rows 3t + c
         carried = np.asarray(result.carry(0, corners.astype(np.float64)))
-        bridge.write_uv_layer(mesh, carried, layer.name)
+        own = uv.reshape(-1, 2)[extra.loops.ravel()]
+        bridge.write_uv_layer(mesh, np.concatenate([carried, own]), layer.name)
     if source_mesh.uv_layers.active is not None:
         mesh.uv_layers.active = mesh.uv_layers[source_mesh.uv_layers.active.name]
-    _carry_colors(source_mesh, mesh, result, tri_loops)
+    _carry_colors(source_mesh, mesh, result, tri_loops, extra)
 
 
-def _carry_vertex_groups(source, obj, result, tri_loops):
+def _carry_vertex_groups(source, obj, result, tri_loops, extra_vertices=()):
     """The source's vertex groups on the merged vertices: each weight
     interpolated over the face of the source holding the merged vertex (0
-    where a vertex is in no group). Empty groups are made too, so a rig that
-    names them finds them."""
+    where a vertex is in no group), then on the `extra_vertices` of the
+    source copied after them as they are. Empty groups are made too, so a
+    rig that names them finds them."""
     if not source.vertex_groups:
         return
     mesh = source.data
@@ -87,6 +99,7 @@ def _carry_vertex_groups(source, obj, result, tri_loops):
                 weights[membership.group, vertex.index] = membership.weight
     for index, group in enumerate(source.vertex_groups):
         carried = np.round((bary * weights[index][corners]).sum(axis=1), 6)
+        carried = np.concatenate([carried, weights[index][np.asarray(extra_vertices, dtype=np.int64)]])
         out = obj.vertex_groups.new(name=group.name)
         members = np.flatnonzero(carried > 0)
         values, which = np.unique(carried[members], return_inverse=True)
@@ -96,9 +109,10 @@ def _carry_vertex_groups(source, obj, result, tri_loops):
     obj.vertex_groups.active_index = source.vertex_groups.active_index
 
 
-def _carry_colors(source_mesh, mesh, result, tri_loops):
+def _carry_colors(source_mesh, mesh, result, tri_loops, extra=_Extra()):
     """Colour attributes of the source (per corner or per vertex) as per-corner
-    colours of the merged faces; the active one stays active."""
+    colours of the merged faces, then of the `extra` faces; the active one
+    stays active."""
     if not hasattr(source_mesh, "color_attributes"):  # 3.2+
         return
     loop_vertex = np.empty(len(source_mesh.loops), dtype=np.int32)
@@ -112,6 +126,7 @@ def _carry_colors(source_mesh, mesh, result, tri_loops):
         values = values.reshape(-1, 4)
         per_loop = values if attribute.domain == "CORNER" else values[loop_vertex]
         carried = np.asarray(result.carry(0, per_loop[tri_loops.ravel()].astype(np.float64)))
+        carried = np.concatenate([carried, per_loop[extra.loops.ravel()]])
         out = mesh.color_attributes.new(attribute.name, "FLOAT_COLOR", "CORNER")
         out.data.foreach_set("color", np.ascontiguousarray(carried, dtype=np.float32).ravel())
         if active is not None and attribute.name == active.name:
@@ -173,19 +188,42 @@ def _animate(obj, frame_start, frame_end, easing):
 
 
 def build(context, name, source, result, target_positions, shapes, *, tri_poly, tri_loops,
-          target_name="Target", frame_start=1, frame_end=48, easing=True, source_positions=None):
+          target_name="Target", frame_start=1, frame_end=48, easing=True, source_positions=None,
+          parts=None, source_triangles=None):
     """A new object `name` on the merged topology of `result` (paramorph_native.Morph),
     placed like `source` and linked to its collections: Basis = result.source,
     keys "<target_name> 25%"... (the in-between `shapes`, evenly spaced) and
     `target_name` = target_positions, driven by the object's morph property,
     which is keyframed from frame_start to frame_end. source_positions: the
-    Basis in the source object's coordinates (default result.source). Returns
-    the object."""
+    Basis in the source object's coordinates (default result.source).
+    parts: the source's separate parts riding along (morph_job.RidingParts,
+    with their positions), added after the merged mesh as they are in the
+    source, with their own looks and vertex groups; source_triangles: (polygon
+    per triangle, loops per triangle, vertices per triangle) of the source's
+    own triangulation, which parts.triangles index. Returns the object."""
     source_positions = np.asarray(result.source if source_positions is None else source_positions)
-    mesh = _build_mesh(name, source_positions, np.asarray(result.faces))
-    _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops)
+    faces = np.asarray(result.faces)
+    extra, extra_vertices = _Extra(), np.zeros(0, dtype=np.int64)
+    if parts is not None:
+        # The separate parts; a stray vertex of the body Repair left out
+        # would be a loose vertex here (the merged mesh is the body).
+        rows = np.flatnonzero(parts.separate[parts.part_of])
+        extra_vertices = parts.vertices[rows]
+        own_poly, own_loops, own_faces = source_triangles
+        number = np.full(max(int(np.max(own_faces)), int(np.max(parts.vertices))) + 1, -1, dtype=np.int64)
+        number[extra_vertices] = len(source_positions) + np.arange(len(rows))
+        own = number[np.asarray(own_faces)[parts.triangles]]
+        whole = (own >= 0).all(axis=1)  # not among stray vertices
+        faces = np.concatenate([faces, own[whole]])
+        source_positions = np.concatenate([source_positions, parts.basis[rows]])
+        target_positions = np.concatenate([target_positions, parts.shapes[-1][rows]])
+        shapes = [np.concatenate([shape, own[rows]]) for shape, own in zip(shapes, parts.shapes[:-1])]
+        triangles = parts.triangles[whole]
+        extra = _Extra(np.asarray(own_poly)[triangles], np.asarray(own_loops)[triangles])
+    mesh = _build_mesh(name, source_positions, faces)
+    _carry_source_looks(source.data, mesh, result, tri_poly, tri_loops, extra)
     obj = bpy.data.objects.new(name, mesh)
-    _carry_vertex_groups(source, obj, result, tri_loops)
+    _carry_vertex_groups(source, obj, result, tri_loops, extra_vertices)
     for collection in source.users_collection or (context.collection,):
         collection.objects.link(obj)
     obj.matrix_world = source.matrix_world.copy()

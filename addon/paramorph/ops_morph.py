@@ -176,10 +176,58 @@ def inside_out_note(result, source, target):
     return [f"{name}'s faces pointed inwards: turned for the morph" for name in turned]
 
 
-def repair_notes(fixed_a, fixed_b, source, target):
-    """"Horse repaired: merged 12 vertices ..." for each mesh Repair changed."""
-    return [f"{o.name} {fixed.summary()}" for o, fixed in ((source, fixed_a), (target, fixed_b))
-            if fixed is not None and fixed.changed]
+def _removed_parts(change):
+    """"2 smaller parts (112 faces)" from Repair's "removed 2 smaller parts
+    (112 faces), kept the largest", else None."""
+    if change.startswith("removed ") and "smaller part" in change and ", kept the largest" in change:
+        return change[len("removed "):change.index(", kept the largest")]
+    return None
+
+
+def repair_notes(fixed_a, fixed_b, source, target, riding=False):
+    """"Horse repaired: merged 12 vertices ..." for each mesh Repair changed.
+    With `riding` (Morph To: the source's smaller parts ride along, which
+    parts_notes says), the parts Repair left out of the source are not
+    called removed, and the target's are said to be left out of the morph."""
+    if not riding:
+        return [f"{o.name} {fixed.summary()}" for o, fixed in ((source, fixed_a), (target, fixed_b))
+                if fixed is not None and fixed.changed]
+    notes = []
+    for obj, fixed in ((source, fixed_a), (target, fixed_b)):
+        if fixed is None:
+            continue
+        kept, left_out = [], []
+        for change in fixed.changes:
+            removed = _removed_parts(change)
+            if removed is None:
+                kept.append(change)
+            elif obj is target:
+                left_out.append(f"{target.name}'s {removed} are left out: the morph goes to its largest part")
+        notes += ([f"{obj.name} repaired: " + "; ".join(kept)] if kept else []) + left_out
+    return notes
+
+
+def parts_notes(parts, source):
+    """What became of the source's separate parts (morph_job.RidingParts):
+    "2 separate parts of Suzanne (68 vertices) ride along its body", and
+    those far from it that stay where they were."""
+    if parts is None:
+        return []
+    notes = []
+    riding = np.flatnonzero(parts.riding & parts.separate)
+    if len(riding):
+        vertices = int(np.isin(parts.part_of, riding).sum())
+        line = (f"{_count(len(riding), 'separate part')} of {source.name} "
+                f"({vertices} {'vertex' if vertices == 1 else 'vertices'}) ride along its body")
+        pushed = int(np.count_nonzero(parts.pushed[riding] > 0))
+        if pushed:
+            line += f" ({pushed} kept from sinking into it)"
+        notes.append(line)
+    left = int(np.count_nonzero(~parts.riding & parts.separate))
+    if left:
+        notes.append(f"{_count(left, 'part')} of {source.name} far from its body "
+                     f"{'stays where it was' if left == 1 else 'stay where they were'}")
+    return notes
 
 
 # --- operators -----------------------------------------------------------------------
@@ -493,12 +541,13 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
     def finish(self, context, outcome, state):
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
         result = outcome.result
+        notes = (repair_notes(outcome.repaired_a, outcome.repaired_b, source, target, riding=True)
+                 + parts_notes(outcome.parts, source))
         if outcome.keep_topology:
             morph_object.add_morph_keys(context, source, outcome.shapes, outcome.target, target_name=target.name,
                                         frame_start=self.frame_start, frame_end=self.frame_end,
                                         easing=self.easing == "EASE")
-            report, coarse = keep_report(source, target, outcome, state["previewed"],
-                                         repair_notes(outcome.repaired_a, outcome.repaired_b, source, target))
+            report, coarse = keep_report(source, target, outcome, state["previewed"], notes)
             if coarse:
                 self.report({"WARNING"}, coarse)
             return report
@@ -508,12 +557,12 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         obj = morph_object.build(
             context, f"{source.name} to {target.name}", source, result, outcome.target, outcome.shapes,
             tri_poly=tri_poly, tri_loops=tri_loops, target_name=target.name, source_positions=outcome.source,
-            frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE")
+            frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE",
+            parts=outcome.parts, source_triangles=(state["tri_poly"], state["tri_loops"], state["arrays_source"][1]))
         for other in context.view_layer.objects:  # objects, not mesh elements
             other.select_set(other == obj)
         context.view_layer.objects.active = obj
         input_faces = len(state["arrays_source"][1]) + len(state["arrays_target"][1])
-        notes = repair_notes(outcome.repaired_a, outcome.repaired_b, source, target)
         return morph_report(obj, result, source, target, state["previewed"], input_faces, notes)
 
 

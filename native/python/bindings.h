@@ -16,4 +16,5 @@ void bind_morph(pybind11::module_& m);
 void bind_overlay(pybind11::module_& m);
 void bind_paste(pybind11::module_& m);
 void bind_in_betweens(pybind11::module_& m);
+void bind_ride_along(pybind11::module_& m);
 }  // namespace paramorph::python

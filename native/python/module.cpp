@@ -61,4 +61,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_overlay(m);
   paramorph::python::bind_paste(m);
   paramorph::python::bind_in_betweens(m);
+  paramorph::python::bind_ride_along(m);
 }
