@@ -16,7 +16,10 @@ void bind_ride_along(py::module_& m) {
   m.def(
       "vertex_parts",
       [](const py::object& F, Index vertices) {
-        PM_REQUIRE(vertices >= 0, InvalidInputError, "vertices must be >= 0, got ", vertices);
+        // A count no mesh in memory has (an int's top) would only be an allocation failure.
+        constexpr Index kMostVertices = Index(1) << 25;
+        PM_REQUIRE(vertices >= 0 && vertices <= kMostVertices, InvalidInputError, "vertices must be in [0, ",
+                   kMostVertices, "], got ", vertices);
         const MatrixX3i f = to_faces(F, "F");
         PM_REQUIRE(f.size() == 0 || (f.minCoeff() >= 0 && f.maxCoeff() < vertices), InvalidInputError,
                    "F has an index outside [0, ", vertices, ")");

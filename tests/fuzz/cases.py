@@ -900,6 +900,57 @@ def gen_shape_interpolation_at(g):
     return (s, t), {}
 
 
+def _parts_around(g, m, tag="part_V", clean=False):
+    """Part vertices around a mesh (eyes on a head) and their labels 0..k-1
+    (unless clean, maybe mutated: a label missing, out of range, too few)."""
+    k = int(g.rng.integers(1, 4))
+    count = int(g.rng.integers(1, 12))
+    centre = m.V0.mean(axis=0)
+    size = float(np.ptp(m.V0, axis=0).max()) or 1.0
+    P = centre + 0.6 * size * g.rng.standard_normal((count * k, 3))
+    labels = np.repeat(np.arange(k), count).astype(g.choice([np.int32, np.int64]))
+    if clean:
+        return P, labels
+    if g.mutate():
+        op = g.choice(["drop_label", "shift", "short", "negative"])
+        g.note(f"part_of:{op}")
+        labels = {"drop_label": lambda: np.where(labels == 0, 1 if k > 1 else 2, labels),
+                  "shift": lambda: labels + 1, "short": lambda: labels[:-1],
+                  "negative": lambda: labels - 1}[op]()
+    return g.array(P, tag), labels
+
+
+def gen_vertex_parts(g):
+    m = g.mesh("any")
+    vertices = m.n
+    if g.mutate():
+        vertices = g.choice([-1, 0, m.n - 1, 2 ** 31 - 1, 10 ** 7])
+        g.note(f"vertices={vertices}")
+    return (m.F, vertices), {}
+
+
+def gen_signed_distance(g):
+    m = g.mesh("closed")
+    return (m.V, m.F, g.points(int(g.rng.integers(1, 20)))), {}
+
+
+RIDE_OPTIONS = {"patch_scale": ("float", 0.1, 5.0), "min_patch": ("int", 1, 40), "attach_share": ("float", 0.0, 1.0)}
+
+
+def gen_part_rider(g):
+    m = g.mesh("closed", "body")
+    parts, labels = _parts_around(g, m)
+    return (m.V, m.F, parts, labels), g.options(RIDE_OPTIONS)
+
+
+def gen_part_rider_at(g):
+    m = g.mesh("closed", "body")
+    parts, labels = _parts_around(g, m, clean=True)
+    rider = Call("PartRider", (m.V0, m.F0, parts, labels))
+    now = m.V0 * g.rng.uniform(0.1, 3.0) + g.rng.standard_normal(3)
+    return (rider, g.array(now, "body_now")), {}
+
+
 def _small_pair(g):
     a = base_mesh(g.choice(["octahedron", "icosahedron", "icosphere1", "cube", "blob1"]))
     b = base_mesh(g.choice(["octahedron", "icosahedron", "icosphere1", "cube", "box2"]))
@@ -982,6 +1033,10 @@ TABLE = {
     "RbfInterpolator.solve": gen_rbf_solve,
     "ShapeInterpolation": gen_shape_interpolation,
     "ShapeInterpolation.at": gen_shape_interpolation_at,
+    "vertex_parts": gen_vertex_parts,
+    "signed_distance": gen_signed_distance,
+    "PartRider": gen_part_rider,
+    "PartRider.at": gen_part_rider_at,
 }
 
 

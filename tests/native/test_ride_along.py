@@ -68,3 +68,10 @@ def test_bad_input_is_refused():
     rider = pm.PartRider(V, F, parts, labels)
     with pytest.raises(pm.InvalidInputError):
         rider.at(V[:10])
+
+
+def test_vertex_parts_refuses_a_count_no_mesh_has():
+    _, F, _, _, _ = body_and_eyes()
+    for count in (-1, 2 ** 31 - 1):
+        with pytest.raises(pm.InvalidInputError):
+            pm.vertex_parts(F, count)
