@@ -213,7 +213,12 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
         number = np.full(max(int(np.max(own_faces)), int(np.max(parts.vertices))) + 1, -1, dtype=np.int64)
         number[extra_vertices] = len(source_positions) + np.arange(len(rows))
         own = number[np.asarray(own_faces)[parts.triangles]]
-        whole = (own >= 0).all(axis=1)  # not among stray vertices
+        # Not among stray vertices, and nothing mesh.validate() would drop
+        # (a repeated corner, the same face twice): the looks are per face.
+        whole = (own >= 0).all(axis=1) & (own[:, 0] != own[:, 1]) & (own[:, 1] != own[:, 2]) & \
+            (own[:, 2] != own[:, 0])
+        _, first = np.unique(np.sort(own, axis=1), axis=0, return_index=True)
+        whole &= np.isin(np.arange(len(own)), first)
         faces = np.concatenate([faces, own[whole]])
         source_positions = np.concatenate([source_positions, parts.basis[rows]])
         target_positions = np.concatenate([target_positions, parts.shapes[-1][rows]])

@@ -141,3 +141,4 @@ def test_the_targets_own_parts_are_said_to_be_left_out(capfd):
     assert bpy.ops.paramorph.morph_to(topology="MERGED", in_betweens=1) == {"FINISHED"}
     out, _ = capfd.readouterr()
     assert "Monkey's 2 smaller parts" in out and "are left out: the morph goes to its largest part" in out, out
+
