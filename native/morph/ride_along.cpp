@@ -9,6 +9,7 @@
 
 #include "common/best_rotation.h"
 #include "common/errors.h"
+#include "mesh/bounding_box_diagonal.h"
 #include "mesh/closest_points.h"
 #include "mesh/face_neighbors.h"
 #include "mesh/tri_mesh.h"
@@ -78,10 +79,6 @@ double depth_of(const VectorXd& signed_distance) {
   return signed_distance.size() ? std::max(0.0, -signed_distance.minCoeff()) : 0.0;
 }
 
-double diagonal(const MatrixX3d& V) {
-  return V.rows() ? (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm() : 0.0;
-}
-
 }  // namespace
 
 VectorXd signed_distance(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d& points) {
@@ -91,7 +88,7 @@ VectorXd signed_distance(const MatrixX3d& V, const MatrixX3i& F, const MatrixX3d
 
 PartRider::PartRider(const MatrixX3d& body_V, const MatrixX3i& body_F, const MatrixX3d& part_V,
                      const VectorXi& part_of, const RideAlongOptions& options)
-    : body_rest_(body_V), body_F_(body_F), part_rest_(part_V), part_of_(part_of) {
+    : body_rest_(body_V), body_F_(body_F), part_rest_(part_V) {
   validate_arrays(body_V, body_F);
   if (part_of.size() != part_V.rows())
     throw InvalidInputError("part_of has " + std::to_string(part_of.size()) + " labels for " +
@@ -99,8 +96,9 @@ PartRider::PartRider(const MatrixX3d& body_V, const MatrixX3i& body_F, const Mat
   if (!part_V.allFinite()) throw InvalidInputError("part_V has a non-finite coordinate");
   const Index parts = part_of.size() ? Index(part_of.maxCoeff()) + 1 : 0;
   if (part_of.size() && part_of.minCoeff() < 0) throw InvalidInputError("part_of has a negative label");
-  std::vector<std::vector<Index>> members(parts);
-  for (Index i = 0; i < Index(part_of.size()); ++i) members[part_of(i)].push_back(i);
+  members_.assign(parts, {});
+  for (Index i = 0; i < Index(part_of.size()); ++i) members_[part_of(i)].push_back(i);
+  const std::vector<std::vector<Index>>& members = members_;
   for (Index p = 0; p < parts; ++p)
     if (members[p].empty())
       throw InvalidInputError("part " + std::to_string(p) + " has no vertex (labels must be 0..parts-1, each used)");
@@ -114,7 +112,7 @@ PartRider::PartRider(const MatrixX3d& body_V, const MatrixX3i& body_F, const Mat
   rest_depth_ = VectorXd::Zero(parts);
   rest_gap_ = VectorXd::Zero(parts);
   riding_.assign(parts, true);
-  const double body_diagonal = diagonal(body_V);
+  const double body_diagonal = bounding_box_diagonal(body_V);
   std::vector<char> taken(body_V.rows(), 0);
   for (Index p = 0; p < parts; ++p) {
     MatrixX3d points(members[p].size(), 3);
@@ -187,9 +185,8 @@ CarriedParts PartRider::at(const MatrixX3d& body_now) const {
   if (parts() == 0) return out;
   const ClosestPointTree tree(body_now, body_F_);
   const Pseudonormals normals(body_now, body_F_);
-  const double tolerance = 1e-4 * diagonal(body_now);
-  std::vector<std::vector<Index>> members(parts());
-  for (Index i = 0; i < Index(part_of_.size()); ++i) members[part_of_(i)].push_back(i);
+  const double tolerance = 1e-4 * bounding_box_diagonal(body_now);
+  const std::vector<std::vector<Index>>& members = members_;
   for (Index p = 0; p < parts(); ++p) {
     if (!riding_[p]) {
       for (Index i : members[p]) out.positions.row(i) = part_rest_.row(i);

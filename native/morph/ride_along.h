@@ -74,7 +74,7 @@ class PartRider {
   MatrixX3d body_rest_;
   MatrixX3i body_F_;
   MatrixX3d part_rest_;
-  VectorXi part_of_;
+  std::vector<std::vector<Index>> members_;  ///< per part, its rows of part_rest_
   std::vector<std::vector<Index>> patches_;
   std::vector<VectorXd> weights_;  ///< per part, one weight per patch vertex
   VectorXd rest_depth_, rest_gap_;

@@ -16,9 +16,10 @@
 #include "common/best_rotation.h"
 #include "common/cholesky_solve_rows.h"
 #include "common/errors.h"
-#include "common/report_while.h"
 #include "common/parallel.h"
+#include "common/report_while.h"
 #include "common/supernodal_cholesky.h"
+#include "mesh/bounding_box_diagonal.h"
 #include "mesh/self_intersections.h"
 
 namespace paramorph::morph {
@@ -150,10 +151,6 @@ Eigen::Vector3d face_normal(const MatrixX3d& V, const MatrixX3i& F, Index f) {
   return (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0))).transpose();
 }
 
-double diagonal(const MatrixX3d& V) {
-  return V.rows() ? (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm() : 0.0;
-}
-
 Index find_root(std::vector<Index>& parent, Index v) {
   while (parent[v] != v) v = parent[v] = parent[parent[v]];
   return v;
@@ -248,7 +245,8 @@ ShapeInterpolation::ShapeInterpolation(const MatrixX3d& source, const MatrixX3d&
   global_angle_ = global_log_.norm();
 
   // Per face: its deformation gradient without G.
-  const double area_floor0 = 2e-12 * std::pow(diagonal(source), 2), area_floor1 = 2e-12 * std::pow(diagonal(target), 2);
+  const double area_floor0 = 2e-12 * std::pow(bounding_box_diagonal(source), 2),
+               area_floor1 = 2e-12 * std::pow(bounding_box_diagonal(target), 2);
   std::vector<Eigen::Matrix3d> gradient(m, Eigen::Matrix3d::Identity());
   face_degenerate_.assign(m, 0);
   for (Index f = 0; f < m; ++f) {

@@ -11,6 +11,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include "mesh/bounding_box_diagonal.h"
 #include "morph/sphere_predicates.h"
 
 namespace paramorph::morph {
@@ -20,10 +21,6 @@ namespace {
 /// Edges shorter than this share of the diagonal at one end or both are
 /// tried for welding (the surface check decides).
 constexpr double kWeldReach = 1e-4;
-
-double diagonal(const MatrixX3d& V) {
-  return V.rows() ? (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm() : 0.0;
-}
 
 Eigen::Vector3d normal_of(const MatrixX3d& P, Index a, Index b, Index c) {
   return (P.row(b) - P.row(a)).cross(P.row(c) - P.row(a)).transpose();
@@ -127,7 +124,7 @@ WeldStats weld_merged(MergedTopology& g, MatrixX3d& source_positions, MatrixX3d&
   const MatrixX3i& fa = FA;
   const MatrixX3i& fb = FB;
   const Index n = Index(g.V.rows()), k = Index(g.F.rows());
-  const double diag_a = diagonal(VA), diag_b = diagonal(VB);
+  const double diag_a = bounding_box_diagonal(VA), diag_b = bounding_box_diagonal(VB);
   const double reach_a = tolerance * diag_a, reach_b = tolerance * diag_b;
   const double sliver_a = 2 * kSliverArea * diag_a * diag_a, sliver_b = 2 * kSliverArea * diag_b * diag_b;
   WeldStats stats;
