@@ -104,7 +104,8 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
                            target_transform=None, to_local=None, keep_topology=False, repair=False, **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
     the merged mesh, or with keep_topology of A's own mesh (the target sampled
-    at A's vertices through the correspondence, and its distance to B).
+    at A's vertices through the correspondence, then fitted to B both ways by
+    native.fit_to_surface, and its distance to B).
     target_transform: 4 x 4 applied to the target's positions at the end (the
     morph ends where the target object is), or None. to_local: 3 x 3 taking
     the positions computed on to the source object's own coordinates (the
@@ -119,12 +120,21 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     parts = separate_parts(VA_in, FA_in, fixed_a)
     start = 0.1 if repair else 0.0
     share = 0.85 if in_betweens and interpolation == "ARAP" else 1.0
-    result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(start + (share - start) * f, stage),
+    # A kept topology is then fitted to the target: the last third of the morph's share.
+    fitted = start + (share - start) * (0.65 if keep_topology else 1.0)
+    result = native.morph(VA, FA, VB, FB, progress=lambda f, stage: progress(start + (fitted - start) * f, stage),
                           **options)
     source, target, faces = np.asarray(result.source), np.asarray(result.target), np.asarray(result.faces)
     outcome = MorphOutcome(result, target, [], repaired_a=fixed_a, repaired_b=fixed_b)
     if keep_topology:
         source, target, faces = np.asarray(VA, dtype=np.float64), target[np.asarray(result.vertex_of_a)], np.asarray(FA)
+        # A's vertices sit where the correspondence put them on B; drawn over
+        # B both ways (its legs, tail and muzzle get their share), the pins
+        # and matched tips held where they are.
+        held = np.unique(np.asarray(result.pairs, dtype=np.int64).reshape(-1, 2)[:, 0])
+        target = np.asarray(native.fit_to_surface(
+            target, faces, VB, FB, held=held,
+            progress=lambda f, stage: progress(fitted + (share - fitted) * f, stage)).positions)
         outcome.keep_topology = True
         outcome.distance = native.surface_distance(  # seconds on 100k faces: reports, so Esc acts
             target, faces, VB, FB, progress=lambda f, stage: progress(share, "checking the end shape"))

@@ -209,11 +209,16 @@ def repair_notes(fixed_a, fixed_b, source, target, riding=False):
 
 def parts_notes(parts, source):
     """What became of the source's separate parts (morph_job.RidingParts):
-    "2 separate parts of Suzanne (68 vertices) ride along its body", and
-    those far from it that stay where they were."""
+    "2 separate parts of Suzanne (68 vertices) ride along its body", those
+    far from it that stay where they were, and which part was taken as the
+    body when it holds under half of the source's vertices."""
     if parts is None:
         return []
     notes = []
+    total = len(source.data.vertices)
+    body = total - len(parts.vertices)
+    if body < total / 2:  # e.g. a scatter of equal pieces: say which one was morphed
+        notes.append(f"the morph takes {source.name}'s largest part ({body} of its {total} vertices) as its body")
     riding = np.flatnonzero(parts.riding & parts.separate)
     if len(riding):
         vertices = int(np.isin(parts.part_of, riding).sum())

@@ -17,4 +17,5 @@ void bind_overlay(pybind11::module_& m);
 void bind_paste(pybind11::module_& m);
 void bind_in_betweens(pybind11::module_& m);
 void bind_ride_along(pybind11::module_& m);
+void bind_fit_to_surface(pybind11::module_& m);
 }  // namespace paramorph::python

@@ -62,4 +62,5 @@ PYBIND11_MODULE(paramorph_native, m) {
   paramorph::python::bind_paste(m);
   paramorph::python::bind_in_betweens(m);
   paramorph::python::bind_ride_along(m);
+  paramorph::python::bind_fit_to_surface(m);
 }

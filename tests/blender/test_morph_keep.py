@@ -90,12 +90,17 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     assert [k.name for k in blocks] == ["Basis", "Smile"] + [f"Blob {p}%" for p in (11, 22, 33, 44, 56, 67, 78, 89)] + ["Blob"]
     np.testing.assert_allclose(coordinates(blocks["Smile"].data), smile_co, atol=1e-6)
     assert all(k.relative_key == blocks["Basis"] for k in blocks[1:])
-    # The last key is the target sampled at the source's vertices through the correspondence.
+    # The last key is the target sampled at the source's vertices through the
+    # correspondence, then fitted to the target both ways (the matched tips held).
     morph = native.morph(VA, FA, VB, FB)
-    expected = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
+    sampled = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
+    held = np.unique(np.asarray(morph.pairs, dtype=np.int64).reshape(-1, 2)[:, 0])
+    expected = np.asarray(native.fit_to_surface(sampled, FA, VB, FB, held=held).positions)
     end = coordinates(blocks["Blob"].data)
     scale = np.ptp(VB, axis=0).max()
     assert np.abs(end - expected).max() < 1e-4 * scale
+    np.testing.assert_allclose(end[held], sampled[held], atol=1e-5 * scale)
+    assert native.surface_distance(end, FA, VB, FB).hausdorff < native.surface_distance(sampled, FA, VB, FB).hausdorff
     np.testing.assert_allclose(coordinates(blocks["Basis"].data), VA, atol=1e-6)
 
     # Scrubbing: at t = 4/9 the evaluated mesh is that key's shape.

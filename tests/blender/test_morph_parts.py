@@ -133,6 +133,28 @@ def test_a_part_far_from_the_body_stays_where_it_was(capfd):
         np.testing.assert_array_equal(coordinates(key.data)[far], rest[far])
 
 
+def test_a_source_of_equal_pieces_says_which_is_morphed_and_loses_nothing(capfd):
+    for i in range(6):  # six small cubes in a row, apart: no one main body
+        bpy.ops.mesh.primitive_cube_add(size=0.2, location=(0.6 * i, 0.0, 0.0))
+    bpy.ops.object.select_all(action="SELECT")
+    bpy.ops.object.join()
+    source = bpy.context.active_object
+    source.name = "Pieces"
+    target = make_samples.build_blob(name="Blob", subdivisions=3)
+    target.location = (5.0, 0.0, 0.0)
+    rest = coordinates(source.data.vertices)
+    select_pair(source, target)
+    assert bpy.ops.paramorph.morph_to(topology="KEEP", in_betweens=1) == {"FINISHED"}
+    out, _ = capfd.readouterr()
+    assert "the morph takes Pieces's largest part (8 of its 48 vertices) as its body" in out, out
+    assert "5 parts of Pieces far from its body stay where they were" in out, out
+    assert len(source.data.vertices) == 48
+    end = coordinates(source.data.shape_keys.key_blocks["Blob"].data)
+    moved = np.linalg.norm(end - rest, axis=1) > 1e-6
+    assert moved.sum() == 8  # one cube became the blob's shape, the others kept theirs exactly
+    np.testing.assert_array_equal(end[~moved], rest[~moved])
+
+
 def test_the_targets_own_parts_are_said_to_be_left_out(capfd):
     source = make_samples.build_blob(name="Blob", subdivisions=3)
     target = suzanne("Monkey")

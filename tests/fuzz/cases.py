@@ -39,7 +39,7 @@ KNOWN_FINDINGS = ()  # (function, error type, message regex, why): none open
 
 # Classes the module returns but that Python cannot construct (no __init__):
 # their methods are still fuzzed, through entries "Class.method" below.
-RESULT_TYPES = ("AlignedSphereMap", "BalancedSphereMap", "ProgressiveSphereMap", "CorrespondenceCandidate",
+RESULT_TYPES = ("AlignedSphereMap", "FitToSurface", "BalancedSphereMap", "ProgressiveSphereMap", "CorrespondenceCandidate",
                 "ExtremityTips", "Feature", "FeatureMatch", "FeaturePoints", "ProtrusionTips",
                 "IsometricSphereMap", "MapDistortion", "MergedTopology", "MeshReport", "Morph",
                 "MorphCorrespondence", "OptimizedSphereMap", "OverlayStats", "PlanarMap",
@@ -51,7 +51,7 @@ NAN, INF = float("nan"), float("inf")
 # Keyword options that bound the work a call does (iterations, steps, rings): a
 # huge value makes a long run the caller asked for, so a timeout with one over
 # 1e5 is reported apart ("slow_budget"), not as a hang.
-BUDGET_OPTIONS = ("max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations", "samples")
+BUDGET_OPTIONS = ("rounds", "max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations", "samples")
 
 
 def public_callables(module):
@@ -934,6 +934,15 @@ def gen_signed_distance(g):
     return (m.V, m.F, g.points(int(g.rng.integers(1, 20)))), {}
 
 
+FIT_OPTIONS = {"rounds": ("int", 0, 12), "stiffness": ("float", 0.0, 10.0), "stiffness_decay": ("float", 0.01, 1.0)}
+
+
+def gen_fit_to_surface(g):
+    a, b = g.mesh("closed", "A"), g.mesh("any", "B")
+    held = g.indices(a.n, int(g.rng.integers(0, 4)), "held", allow_empty=True)
+    return (a.V, a.F, b.V, b.F), {**g.options(FIT_OPTIONS), "held": held}
+
+
 RIDE_OPTIONS = {"patch_scale": ("float", 0.1, 5.0), "min_patch": ("int", 1, 40), "attach_share": ("float", 0.0, 1.0)}
 
 
@@ -1037,6 +1046,7 @@ TABLE = {
     "signed_distance": gen_signed_distance,
     "PartRider": gen_part_rider,
     "PartRider.at": gen_part_rider_at,
+    "fit_to_surface": gen_fit_to_surface,
 }
 
 

@@ -1,0 +1,327 @@
+// Two-sided fit of a kept topology to the target's surface (morph/fit_to_surface.h).
+#include "morph/fit_to_surface.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/errors.h"
+#include "common/supernodal_cholesky.h"
+#include "mesh/closest_points.h"
+#include "mesh/signed_volume.h"
+#include "mesh/validate.h"
+#include "mesh/vertex_normals.h"
+#include "morph/correspondence_frame.h"
+
+namespace paramorph::morph {
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+/// Points inside each face per round: a barycentric grid of `steps` per
+/// edge, so that a large triangle cutting across B's curve is drawn back by
+/// its middle, not only by its corners. Fewer for large meshes (the queries
+/// grow with them; their triangles are small anyway).
+int grid_steps(Index faces) {
+  if (Index(10) * faces <= 400000) return 3;
+  if (Index(6) * faces <= 400000) return 2;
+  return 1;
+}
+
+std::vector<std::array<double, 3>> barycentric_grid(int steps) {
+  std::vector<std::array<double, 3>> out;
+  for (int i = 0; i <= steps; ++i)
+    for (int j = 0; i + j <= steps; ++j)
+      out.push_back({double(i) / steps, double(j) / steps, double(steps - i - j) / steps});
+  return out;
+}
+
+Eigen::RowVector3d face_normal(const MatrixX3d& V, const MatrixX3i& F, Index f) {
+  const Eigen::RowVector3d a = V.row(F(f, 0));
+  return (V.row(F(f, 1)) - a).cross(V.row(F(f, 2)) - a);
+}
+
+/// Each vertex's share of the mesh's area (a third of each face's).
+VectorXd vertex_area_shares(const MatrixX3d& V, const MatrixX3i& F) {
+  VectorXd share = VectorXd::Zero(V.rows());
+  for (Index f = 0; f < Index(F.rows()); ++f) {
+    const double third = face_normal(V, F, f).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) share(F(f, k)) += third;
+  }
+  const double total = share.sum();
+  return total > 0 ? VectorXd(share / total) : share;
+}
+
+/// The least-squares system of one round over the free vertices: the
+/// weighted point terms (a point of A, as barycentric weights of a face's
+/// corners, drawn to a target), the stiffness times the Laplacian of the
+/// displacement, and the held vertices moved to the right-hand side.
+class RoundSystem {
+ public:
+  RoundSystem(const MatrixX3d& X, const std::vector<Index>& free_index)
+      : X_(X), free_(free_index), rhs_(MatrixX3d::Zero(free_count(free_index), 3)) {}
+
+  void add_point(const MatrixX3i& F, Index f, const std::array<double, 3>& bary, const Eigen::RowVector3d& target,
+                 double weight) {
+    for (int k = 0; k < 3; ++k) {
+      const Index i = free_[F(f, k)];
+      if (i < 0) continue;
+      rhs_.row(i) += weight * bary[k] * target;
+      for (int l = 0; l < 3; ++l) {
+        const double entry = weight * bary[k] * bary[l];
+        const Index j = free_[F(f, l)];
+        if (j >= 0)
+          triplets_.emplace_back(i, j, entry);
+        else
+          rhs_.row(i) -= entry * X_.row(F(f, l));
+      }
+    }
+  }
+
+  /// weight * |(x_a - x_b) - (X_a - X_b)|^2: the edge's change penalised.
+  void add_edge(Index a, Index b, double weight) {
+    const Eigen::RowVector3d rest = X_.row(a) - X_.row(b);
+    const Index i = free_[a], j = free_[b];
+    if (i >= 0) {
+      triplets_.emplace_back(i, i, weight);
+      rhs_.row(i) += weight * rest;
+      if (j >= 0)
+        triplets_.emplace_back(i, j, -weight);
+      else
+        rhs_.row(i) += weight * X_.row(b);
+    }
+    if (j >= 0) {
+      triplets_.emplace_back(j, j, weight);
+      rhs_.row(j) -= weight * rest;
+      if (i >= 0)
+        triplets_.emplace_back(j, i, -weight);
+      else
+        rhs_.row(j) += weight * X_.row(a);
+    }
+  }
+
+  /// weight * |x - X|^2 for every free vertex (keeps the system definite
+  /// where a vertex has no sample).
+  void add_anchor(double weight) {
+    for (Index v = 0; v < Index(free_.size()); ++v) {
+      const Index i = free_[v];
+      if (i < 0) continue;
+      triplets_.emplace_back(i, i, weight);
+      rhs_.row(i) += weight * X_.row(v);
+    }
+  }
+
+  SparseMatrix matrix() const {
+    SparseMatrix M(rhs_.rows(), rhs_.rows());
+    M.setFromTriplets(triplets_.begin(), triplets_.end());
+    return M;
+  }
+  const MatrixX3d& rhs() const { return rhs_; }
+
+ private:
+  static Index free_count(const std::vector<Index>& free_index) {
+    return Index(std::count_if(free_index.begin(), free_index.end(), [](Index i) { return i >= 0; }));
+  }
+  const MatrixX3d& X_;
+  const std::vector<Index>& free_;
+  MatrixX3d rhs_;
+  std::vector<Eigen::Triplet<double>> triplets_;
+};
+
+/// A's edges, each once.
+std::vector<std::array<Index, 2>> unique_edges(const MatrixX3i& F) {
+  std::vector<std::array<Index, 2>> edges;
+  edges.reserve(3 * F.rows());
+  for (Index f = 0; f < Index(F.rows()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = F(f, k), b = F(f, (k + 1) % 3);
+      if (a != b) edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+/// B's vertices the fit draws A to: all of them up to this many, else every
+/// k-th (the queries onto A's mesh are rebuilt each round).
+constexpr Index kMaxTargetSamples = 60000;
+
+/// Halvings of a round's step while a face would turn over; then the fit ends.
+constexpr int kHalvings = 12;
+
+}  // namespace
+
+namespace {
+
+/// The fit in B's own frame (see fit_to_surface below).
+FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,
+                          const VectorXi& held, double source_side, const FitToSurfaceOptions& options,
+                          Progress* progress) {
+  std::vector<Index> free_index(X.rows(), 0);
+  for (Index k = 0; k < Index(held.size()); ++k) free_index[held(k)] = -1;
+  Index free_count = 0;
+  for (Index& i : free_index)
+    if (i >= 0) i = free_count++;
+
+  const ClosestPointTree target_tree(VB, FB);
+  const MatrixX3d target_normals = area_weighted_vertex_normals(VB, FB);
+  const VectorXd target_share = vertex_area_shares(VB, FB);
+  const Index stride = std::max<Index>(1, (Index(VB.rows()) + kMaxTargetSamples - 1) / kMaxTargetSamples);
+  std::vector<Index> target_samples;
+  for (Index v = 0; v < Index(VB.rows()); v += stride)
+    if (target_share(v) > 0) target_samples.push_back(v);
+  MatrixX3d target_points(target_samples.size(), 3);
+  for (std::size_t k = 0; k < target_samples.size(); ++k) target_points.row(Index(k)) = VB.row(target_samples[k]);
+
+  const std::vector<std::array<double, 3>> grid = barycentric_grid(grid_steps(Index(F.rows())));
+  const Index per_face = Index(grid.size());
+  const std::vector<std::array<Index, 2>> edges = unique_edges(F);
+
+  // One round's distances: A's face samples to B, B's samples to A.
+  struct Measured {
+    ClosestPoints on_target;  // of A's samples
+    ClosestPoints on_source;  // of B's samples
+    double distance = 0.0;
+  };
+  ClosestPoints hint;
+  bool have_hint = false;
+  auto measure = [&](const MatrixX3d& P) {
+    Measured m;
+    MatrixX3d samples(F.rows() * per_face, 3);
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      for (Index s = 0; s < per_face; ++s)
+        samples.row(f * per_face + s) =
+            grid[s][0] * P.row(F(f, 0)) + grid[s][1] * P.row(F(f, 1)) + grid[s][2] * P.row(F(f, 2));
+    m.on_target = target_tree.query(samples, have_hint ? &hint : nullptr);
+    hint = m.on_target;
+    have_hint = true;
+    m.on_source = ClosestPointTree(P, F).query(target_points);
+    m.distance = std::max(m.on_target.distance.maxCoeff(), m.on_source.distance.maxCoeff());
+    return m;
+  };
+
+  FitToSurface out;
+  MatrixX3d current = X;
+  Measured now = measure(current);
+  out.positions = current;
+  out.distance_before = out.distance_after = now.distance;
+  if (free_count == 0) return out;
+
+  SupernodalCholesky<SparseMatrix> solver;
+  bool analysed = false;
+  double stiffness = options.stiffness;
+  for (int round = 0; round < options.rounds; ++round, stiffness *= options.stiffness_decay) {
+    if (progress) progress->report(double(round) / options.rounds, "fitting the kept topology to the target");
+    RoundSystem system(current, free_index);
+    VectorXd face_share(F.rows());
+    for (Index f = 0; f < Index(F.rows()); ++f) face_share(f) = face_normal(current, F, f).norm();
+    const double area = face_share.sum();
+    if (!(area > 0)) break;
+    face_share /= area;
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      for (Index s = 0; s < per_face; ++s)
+        system.add_point(F, f, grid[s], now.on_target.points.row(f * per_face + s), face_share(f) / double(per_face));
+    // A's normal at each closest point, blended from its vertex normals: the
+    // same whichever face a point on an edge or corner was found in.
+    const MatrixX3d source_normals = area_weighted_vertex_normals(current, F);
+    for (std::size_t k = 0; k < target_samples.size(); ++k) {
+      const Index f = now.on_source.face(Index(k));
+      const Eigen::RowVector3d b = now.on_source.bary.row(Index(k));
+      const Eigen::RowVector3d normal = b(0) * source_normals.row(F(f, 0)) + b(1) * source_normals.row(F(f, 1)) +
+                                        b(2) * source_normals.row(F(f, 2));
+      if (source_side * normal.dot(target_normals.row(target_samples[k])) <= 0) continue;
+      system.add_point(F, f, {b(0), b(1), b(2)}, target_points.row(Index(k)), target_share(target_samples[k]));
+    }
+    // Per-vertex weights are shares of 1 (about 1/n each): the smoothness
+    // and the anchor are scaled alike, so the answer does not depend on n.
+    const double per_vertex = 1.0 / double(X.rows());
+    for (const auto& e : edges) system.add_edge(e[0], e[1], stiffness * per_vertex);
+    system.add_anchor(1e-9 * per_vertex);
+    const SparseMatrix M = system.matrix();
+    if (!analysed) {
+      solver.analyze(M);
+      analysed = true;
+    }
+    solver.factorize(M);
+    if (solver.info() != Eigen::Success) break;
+    const Eigen::MatrixXd rhs = system.rhs();  // CHOLMOD solves column-major blocks
+    const Eigen::MatrixXd solved = solver.solve(rhs);
+    if (!solved.allFinite()) break;
+    MatrixX3d proposed = current;
+    for (Index v = 0; v < Index(X.rows()); ++v)
+      if (free_index[v] >= 0) proposed.row(v) = solved.row(free_index[v]);
+
+    // Halve the step until no face turns over.
+    MatrixX3d before_normals(F.rows(), 3);
+    for (Index f = 0; f < Index(F.rows()); ++f) before_normals.row(f) = face_normal(current, F, f);
+    double step = 1.0;
+    MatrixX3d next;
+    bool turned = true;
+    for (int halving = 0; halving < kHalvings && turned; ++halving, step *= 0.5) {
+      next = current + step * (proposed - current);
+      turned = false;
+      for (Index f = 0; f < Index(F.rows()) && !turned; ++f)
+        turned = before_normals.row(f).squaredNorm() > 0 && face_normal(next, F, f).dot(before_normals.row(f)) <= 0;
+    }
+    if (turned) break;
+    current = next;
+    ++out.rounds;
+    now = measure(current);
+    if (now.distance < out.distance_after) {
+      out.distance_after = now.distance;
+      out.positions = current;
+    }
+  }
+  if (progress) progress->report(1.0, "fitting the kept topology to the target");
+  return out;
+}
+
+}  // namespace
+
+FitToSurface fit_to_surface(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,
+                            const VectorXi& held, const FitToSurfaceOptions& options, Progress* progress) {
+  validate_arrays(X, F);
+  validate_arrays(VB, FB);
+  if (F.rows() == 0 || FB.rows() == 0) throw InvalidInputError("fit_to_surface needs faces on both meshes");
+  if (options.rounds < 0) throw InvalidInputError("rounds must be >= 0, got " + std::to_string(options.rounds));
+  if (!std::isfinite(options.stiffness) || options.stiffness < 0)
+    throw InvalidInputError("stiffness must be finite and >= 0, got " + std::to_string(options.stiffness));
+  if (!(options.stiffness_decay > 0 && options.stiffness_decay <= 1))
+    throw InvalidInputError("stiffness_decay must be in (0, 1], got " + std::to_string(options.stiffness_decay));
+  for (Index k = 0; k < Index(held.size()); ++k)
+    if (held(k) < 0 || held(k) >= Index(X.rows()))
+      throw InvalidInputError("held vertex " + std::to_string(held(k)) + " is not a vertex of A (" +
+                              std::to_string(X.rows()) + " vertices)");
+  // In B's own frame (centred, unit area, turned by its shape's axes), so a
+  // turned, scaled or shifted scene gives the same numbers, not only the
+  // same answer up to rounding that the rounds would amplify.
+  const CorrespondenceFrame frame = correspondence_frame(VB, FB);
+  const Eigen::Matrix3d turn = shape_rotation(frame.V, FB);
+  auto into = [&](const MatrixX3d& V) {
+    MatrixX3d out = V;
+    out.rowwise() -= frame.centre;
+    return MatrixX3d(out * (turn.transpose() / frame.scale));
+  };
+  // Normals compared outward on both: B's faces as the frame turned them,
+  // A's by the sign of the volume it encloses where it lies.
+  const double source_side = signed_volume(X, F) < 0 ? -1.0 : 1.0;
+  FitToSurface out = fit_in_frame(into(X), F, frame.V * turn.transpose(), frame.F, held, source_side, options,
+                                  progress);
+  out.positions = MatrixX3d(out.positions * (frame.scale * turn));
+  out.positions.rowwise() += frame.centre;
+  out.distance_before *= frame.scale;
+  out.distance_after *= frame.scale;
+  // Held vertices, and all when no round came closer, exactly as given (the
+  // round trip through the frame rounds).
+  if (!(out.distance_after < out.distance_before)) out.positions = X;
+  for (Index k = 0; k < Index(held.size()); ++k) out.positions.row(held(k)) = X.row(held(k));
+  return out;
+}
+
+}  // namespace paramorph::morph

@@ -1,0 +1,74 @@
+"""fit_to_surface from Python (issue 31): a kept topology, first where the
+correspondence puts a coarse sphere's vertices on a many-armed target, drawn
+over the target both ways — closer, its held vertices exactly in place, its
+in-betweens still unfolded — and bad input refused with InvalidInputError."""
+import numpy as np
+import pytest
+
+import paramorph_native as pm
+from in_betweens import inverted_share_turning, rotation
+from meshes import icosphere, tentacle_sphere
+
+
+@pytest.fixture(scope="module")
+def kept():
+    VA, FA = icosphere(2)
+    VA = VA / np.linalg.norm(VA, axis=1, keepdims=True)
+    VB, FB = tentacle_sphere(subdivisions=4, tentacles=4, length=2.0)
+    morph = pm.morph(VA, FA, VB, FB)
+    X = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
+    held = np.array([0, 5, 17, 40])  # a sphere has no tips to match: vertices held as pins would be
+    return VA, FA, VB, FB, X, held
+
+
+def hausdorff(X, F, VB, FB):
+    return pm.surface_distance(X, F, VB, FB).hausdorff
+
+
+def test_the_fit_comes_closer_keeps_held_vertices_and_the_in_betweens_unfolded(kept):
+    VA, FA, VB, FB, X, held = kept
+    fit = pm.fit_to_surface(X, FA, VB, FB, held=held)
+    P = np.asarray(fit.positions)
+    before, after = hausdorff(X, FA, VB, FB), hausdorff(P, FA, VB, FB)
+    assert after < 0.7 * before, (before, after)
+    assert fit.distance_after <= fit.distance_before
+    assert np.array_equal(P[held], X[held])
+    half = pm.ShapeInterpolation(VA, P, FA).at(0.5)
+    assert inverted_share_turning(VA, P, half, FA, 0.5) <= 0.001
+
+
+def test_a_turned_scaled_moved_scene_gives_the_same_fit_moved(kept):
+    _, FA, VB, FB, X, held = kept
+    R, s, t = rotation([0.3, -1.0, 0.2], 2.0), 0.01, np.array([40.0, -3.0, 7.0])
+    plain = np.asarray(pm.fit_to_surface(X, FA, VB, FB, held=held, rounds=30).positions)
+    moved = np.asarray(pm.fit_to_surface(s * X @ R.T + t, FA, s * VB @ R.T + t, FB, held=held, rounds=30).positions)
+    assert np.abs(moved - (s * plain @ R.T + t)).max() < 1e-3 * s * np.ptp(VB, axis=0).max()
+
+
+def test_progress_reports_and_cancel_stops(kept):
+    _, FA, VB, FB, X, _ = kept
+    seen = []
+    pm.fit_to_surface(X, FA, VB, FB, rounds=5, progress=lambda f, stage: seen.append(f) or True)
+    assert seen[0] == 0.0 and seen[-1] == 1.0
+    with pytest.raises(pm.Cancelled):
+        pm.fit_to_surface(X, FA, VB, FB, progress=lambda f, stage: False)
+
+
+@pytest.mark.parametrize("change", [
+    {"rounds": -1}, {"stiffness": float("nan")}, {"stiffness": -1.0}, {"stiffness_decay": 0.0},
+    {"stiffness_decay": 1.5}, {"held": np.array([10 ** 6])}, {"held": np.array([0.5])},
+])
+def test_bad_options_are_refused(kept, change):
+    _, FA, VB, FB, X, _ = kept
+    with pytest.raises(pm.InvalidInputError):
+        pm.fit_to_surface(X, FA, VB, FB, **change)
+
+
+def test_bad_arrays_are_refused(kept):
+    _, FA, VB, FB, X, _ = kept
+    with pytest.raises(pm.InvalidInputError):
+        pm.fit_to_surface(X[:, :2], FA, VB, FB)
+    with pytest.raises(pm.InvalidInputError):
+        pm.fit_to_surface(X, FA + len(X), VB, FB)
+    with pytest.raises(pm.InvalidInputError):
+        pm.fit_to_surface(X, FA, VB, np.zeros((0, 3), dtype=np.int32))
