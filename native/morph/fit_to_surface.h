@@ -11,10 +11,14 @@
 //      and barycentric point found), weighted by their share of B's area,
 //      where that face and B's normal there agree (never across a thin gap
 //      to the other side);
-//   3. each round's displacement is smooth: its graph Laplacian over A's
+//   3. where part of B starts unreached (twice as far from A as A is from
+//      B: a horn or a tail the source has nothing for), the farther side's
+//      far samples are weighted up each round, towards the largest distance
+//      rather than the mean;
+//   4. each round's displacement is smooth: its graph Laplacian over A's
 //      edges is penalised with a weight that falls each round (stiff first,
 //      so large moves stay coherent; soft last, for the fine fit);
-//   4. the held vertices (pins, matched feature tips) stay exactly where they
+//   5. the held vertices (pins, matched feature tips) stay exactly where they
 //      are; a step that would turn a face over (its normal against the one
 //      before the step) is halved, and a round that cannot step without that
 //      ends the fit.
