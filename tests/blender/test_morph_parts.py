@@ -155,6 +155,45 @@ def test_a_source_of_equal_pieces_says_which_is_morphed_and_loses_nothing(capfd)
     np.testing.assert_array_equal(end[~moved], rest[~moved])
 
 
+def test_open_ringed_and_intersecting_parts_ride_along_too(capfd):
+    source = suzanne()
+    bpy.ops.mesh.primitive_plane_add(size=0.5, location=(0.0, -0.9, 0.9), rotation=(1.2, 0.0, 0.0))  # open
+    bpy.ops.mesh.primitive_torus_add(major_segments=16, minor_segments=6, major_radius=0.3, minor_radius=0.05,
+                                     location=(0.0, 0.0, 1.0))  # genus 1
+    bpy.ops.mesh.primitive_ico_sphere_add(radius=0.3, location=(0.6, 0.0, 0.0))  # through the head
+    bpy.ops.object.select_all(action="SELECT")
+    bpy.context.view_layer.objects.active = source
+    bpy.ops.object.join()
+    target = make_samples.build_blob(name="Blob", subdivisions=3)
+    target.location = (5.0, 0.0, 0.0)
+    body, parts = parts_of(source)
+    assert len(parts) == 5  # two eyes, the plane, the torus, the sphere
+    rest = coordinates(source.data.vertices)
+    select_pair(source, target)
+    assert bpy.ops.paramorph.morph_to(topology="KEEP", in_betweens=1) == {"FINISHED"}
+    out, _ = capfd.readouterr()
+    vertices = sum(len(p) for p in parts)
+    assert f"5 separate parts of Suzanne ({vertices} vertices) ride along its body" in out, out
+    # Each keeps its shape, moves, and stays near the body's surface (its
+    # surface, not its nearest vertex: the kept body's vertices are spread
+    # over the target): within twice its gap at rest, as the surface under a
+    # floating part changes shape (the nose under the plane flattens).
+    _, F = bridge.mesh_arrays(source.data)[:2]
+    body_faces = F[np.isin(F, body).all(axis=1)]
+
+    def gap(X, part):
+        return np.abs(np.asarray(native.signed_distance(X, body_faces, X[part]))).min()
+    for key in source.data.shape_keys.key_blocks[1:]:
+        now = coordinates(key.data)
+        grow = np.linalg.norm(np.ptp(now[body], axis=0)) / np.linalg.norm(np.ptp(rest[body], axis=0))
+        for part in parts:
+            assert np.linalg.norm(now[part] - rest[part], axis=1).min() > 1e-3, key.name
+            i, j = np.triu_indices(len(part), 1)
+            ratio = np.linalg.norm(now[part][i] - now[part][j], axis=1) / np.linalg.norm(rest[part][i] - rest[part][j], axis=1)
+            assert np.ptp(ratio) < 1e-4 * ratio.mean(), key.name
+            assert gap(now, part) <= 2.0 * grow * gap(rest, part) + 0.02 * grow, key.name
+
+
 def test_the_targets_own_parts_are_said_to_be_left_out(capfd):
     source = make_samples.build_blob(name="Blob", subdivisions=3)
     target = suzanne("Monkey")
