@@ -182,10 +182,6 @@ constexpr Index kMaxTargetSamples = 60000;
 /// Halvings of a round's step while a face would turn over; then the fit ends.
 constexpr int kHalvings = 12;
 
-}  // namespace
-
-namespace {
-
 /// The fit in B's own frame (see fit_to_surface below).
 FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,
                           const VectorXi& held, double source_side, const FitToSurfaceOptions& options,
