@@ -217,8 +217,9 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
         # (a repeated corner, the same face twice): the looks are per face.
         whole = (own >= 0).all(axis=1) & (own[:, 0] != own[:, 1]) & (own[:, 1] != own[:, 2]) & \
             (own[:, 2] != own[:, 0])
-        _, first = np.unique(np.sort(own, axis=1), axis=0, return_index=True)
-        whole &= np.isin(np.arange(len(own)), first)
+        first = np.zeros(len(own), dtype=bool)
+        first[np.unique(np.sort(own, axis=1), axis=0, return_index=True)[1]] = True
+        whole &= first
         faces = np.concatenate([faces, own[whole]])
         source_positions = np.concatenate([source_positions, parts.basis[rows]])
         target_positions = np.concatenate([target_positions, parts.shapes[-1][rows]])

@@ -14,9 +14,11 @@
 #include "common/supernodal_cholesky.h"
 #include "mesh/closest_points.h"
 #include "mesh/signed_volume.h"
+#include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
 #include "mesh/vertex_normals.h"
 #include "morph/correspondence_frame.h"
+#include "param/spherical/initial_map.h"
 
 namespace paramorph::morph {
 
@@ -45,17 +47,6 @@ std::vector<std::array<double, 3>> barycentric_grid(int steps) {
 Eigen::RowVector3d face_normal(const MatrixX3d& V, const MatrixX3i& F, Index f) {
   const Eigen::RowVector3d a = V.row(F(f, 0));
   return (V.row(F(f, 1)) - a).cross(V.row(F(f, 2)) - a);
-}
-
-/// Each vertex's share of the mesh's area (a third of each face's).
-VectorXd vertex_area_shares(const MatrixX3d& V, const MatrixX3i& F) {
-  VectorXd share = VectorXd::Zero(V.rows());
-  for (Index f = 0; f < Index(F.rows()); ++f) {
-    const double third = face_normal(V, F, f).norm() / 6.0;
-    for (int k = 0; k < 3; ++k) share(F(f, k)) += third;
-  }
-  const double total = share.sum();
-  return total > 0 ? VectorXd(share / total) : share;
 }
 
 /// The least-squares system of one round over the free vertices: the
@@ -161,20 +152,6 @@ VectorXd far_emphasis(const VectorXd& distance, const VectorXd& share, Index per
   return weighted_sum > 0 ? VectorXd(out * (base / weighted_sum)) : out;
 }
 
-/// A's edges, each once.
-std::vector<std::array<Index, 2>> unique_edges(const MatrixX3i& F) {
-  std::vector<std::array<Index, 2>> edges;
-  edges.reserve(3 * F.rows());
-  for (Index f = 0; f < Index(F.rows()); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Index a = F(f, k), b = F(f, (k + 1) % 3);
-      if (a != b) edges.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  return edges;
-}
-
 /// B's vertices the fit draws A to: all of them up to this many, else every
 /// k-th (the queries onto A's mesh are rebuilt each round).
 constexpr Index kMaxTargetSamples = 60000;
@@ -194,7 +171,8 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
 
   const ClosestPointTree target_tree(VB, FB);
   const MatrixX3d target_normals = area_weighted_vertex_normals(VB, FB);
-  const VectorXd target_share = vertex_area_shares(VB, FB);
+  VectorXd target_share = spherical::vertex_areas(TriMesh(VB, FB));
+  target_share /= std::max(target_share.sum(), 1e-300);  // each vertex's share of B's area
   const Index stride = std::max<Index>(1, (Index(VB.rows()) + kMaxTargetSamples - 1) / kMaxTargetSamples);
   std::vector<Index> target_samples;
   for (Index v = 0; v < Index(VB.rows()); v += stride)
@@ -208,7 +186,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
 
   const std::vector<std::array<double, 3>> grid = barycentric_grid(grid_steps(Index(F.rows())));
   const Index per_face = Index(grid.size());
-  const std::vector<std::array<Index, 2>> edges = unique_edges(F);
+  const MatrixX2i edges = TriMesh(X, F).edges();
 
   // One round's distances: A's face samples to B, B's samples to A.
   struct Measured {
@@ -247,8 +225,9 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   for (int round = 0; round < options.rounds; ++round, stiffness *= options.stiffness_decay) {
     if (progress) progress->report(double(round) / options.rounds, "fitting the kept topology to the target");
     RoundSystem system(current, free_index);
-    VectorXd face_share(F.rows());
-    for (Index f = 0; f < Index(F.rows()); ++f) face_share(f) = face_normal(current, F, f).norm();
+    MatrixX3d before_normals(F.rows(), 3);  // also what the step may not turn over
+    for (Index f = 0; f < Index(F.rows()); ++f) before_normals.row(f) = face_normal(current, F, f);
+    VectorXd face_share = before_normals.rowwise().norm();
     const double area = face_share.sum();
     if (!(area > 0)) break;
     face_share /= area;
@@ -282,7 +261,8 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     // Per-vertex weights are shares of 1 (about 1/n each): the smoothness
     // and the anchor are scaled alike, so the answer does not depend on n.
     const double per_vertex = 1.0 / double(X.rows());
-    for (const auto& e : edges) system.add_edge(e[0], e[1], stiffness * per_vertex);
+    for (Index e = 0; e < Index(edges.rows()); ++e)
+      if (edges(e, 0) != edges(e, 1)) system.add_edge(edges(e, 0), edges(e, 1), stiffness * per_vertex);
     system.add_anchor(1e-9 * per_vertex);
     const SparseMatrix M = system.matrix();
     if (!analysed) {
@@ -299,8 +279,6 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       if (free_index[v] >= 0) proposed.row(v) = solved.row(free_index[v]);
 
     // Halve the step until no face turns over.
-    MatrixX3d before_normals(F.rows(), 3);
-    for (Index f = 0; f < Index(F.rows()); ++f) before_normals.row(f) = face_normal(current, F, f);
     double step = 1.0;
     MatrixX3d next;
     bool turned = true;
