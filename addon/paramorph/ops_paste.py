@@ -27,8 +27,8 @@ SCALE_STEP = 1.1
 # --- Copy Feature ------------------------------------------------------------------
 
 class PARAMORPH_OT_copy_feature(NativeOperator, bpy.types.Operator):
-    """Copy the feature made of the selected faces (a boss, an ear, a rib) into this
-    file, to paste it onto a surface with Paste Feature"""
+    """Copy the feature made of the selected faces (a boss, an ear, a horn, a trunk)
+    into this file, to paste it onto a surface with Paste Feature"""
     bl_idname = "paramorph.copy_feature"
     bl_label = "Copy Feature"
     bl_options = {"REGISTER", "UNDO"}
@@ -53,7 +53,9 @@ class PARAMORPH_OT_copy_feature(NativeOperator, bpy.types.Operator):
 
     def finish(self, context, result, state):
         datablock = feature_store.store(result.to_arrays(), state["object"], state["polygons"])
-        return f"copied feature {datablock.name} ({state['polygons']} faces)"
+        # A long part (a trunk, a horn, a limb) is pasted as it is, sewn in at its root.
+        whole = "; a long part: it pastes whole, attached at its root" if getattr(result, "carried", False) else ""
+        return f"copied feature {datablock.name} ({state['polygons']} faces{whole})"
 
 
 # --- Paste Feature -----------------------------------------------------------------

@@ -1,8 +1,11 @@
 #include "paste/extract_feature.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "common/errors.h"
 #include "mesh/tri_mesh.h"
@@ -10,9 +13,11 @@
 #include "param/planar/initial_maps.h"
 #include "param/planar/isometric_map.h"
 #include "param/planar/untangle.h"
+#include "mesh/cotangent_weights.h"
 #include "paste/base_surface.h"
 #include "paste/locate_in_map.h"
 #include "paste/map_frames.h"
+#include "paste/plane_polygon.h"
 #include "paste/sample_feature.h"
 #include "paste/selection_patch.h"
 
@@ -75,7 +80,99 @@ planar::PlanarMapResult fold_free_map(const MatrixX3d& X, const MatrixX3i& F, pl
   return m;
 }
 
+
+/// A base for a long protrusion whose thin-plate base cannot be laid flat
+/// (its interior, spread by the protrusion's own weights, folds): the
+/// boundary on its best-fit plane (its own outline, or a circle of the same
+/// length where that outline gives folds), the interior a positive-weight
+/// average of its neighbours (fold-free for a convex outline: Floater), and
+/// the same average in 3D spanning the root's ring (base rows of the
+/// boundary exact). Throws ConstraintError when even the circle folds.
+struct FlatBase {
+  MatrixX3d V;
+  MatrixX2d uv;
+};
+
+FlatBase flat_base(const MatrixX3d& X, const MatrixX3i& F, const std::vector<Index>& loop) {
+  const TriMesh mesh(X, F);
+  const VectorXd w = clamped_cotangent_weights(mesh);
+  std::vector<char> pinned(std::size_t(X.rows()), 0);
+  for (const Index v : loop) pinned[v] = 1;
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+  for (const Index v : loop) centre += X.row(v);
+  centre /= double(loop.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d turn = Eigen::Vector3d::Zero();  // the loop's vector area: its normal, faces' way round
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const Eigen::Vector3d a = (X.row(loop[k]) - centre).transpose();
+    const Eigen::Vector3d b = (X.row(loop[(k + 1) % loop.size()]) - centre).transpose();
+    covariance += a * a.transpose();
+    turn += a.cross(b);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  Eigen::Vector3d n = eigen.eigenvectors().col(0);
+  if (n.dot(turn) < 0) n = -n;
+  const Eigen::Vector3d e1 = eigen.eigenvectors().col(2), e2 = n.cross(e1);
+  MatrixX2d uv = MatrixX2d::Zero(X.rows(), 2);
+  for (const Index v : loop) {
+    const Eigen::Vector3d d = (X.row(v) - centre).transpose();
+    uv.row(v) << d.dot(e1), d.dot(e2);
+  }
+  FlatBase out;
+  std::vector<Eigen::Vector2d> outline;
+  for (const Index v : loop) outline.push_back(uv.row(v).transpose());
+  if (!self_crossing(outline)) out.uv = planar::harmonic_fill(mesh, w, pinned, uv);
+  if (self_crossing(outline) || !planar::folded_faces(F, out.uv).empty()) {  // it winds: a circle of its length
+    std::vector<double> along{0.0};
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      along.push_back(along.back() + (X.row(loop[(k + 1) % loop.size()]) - X.row(loop[k])).norm());
+    const double length = along.back(), r = length / (2 * M_PI);
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const double angle = 2 * M_PI * along[k] / length;
+      uv.row(loop[k]) << r * std::cos(angle), r * std::sin(angle);
+    }
+    out.uv = planar::harmonic_fill(mesh, w, pinned, uv);
+    PM_REQUIRE(planar::folded_faces(F, out.uv).empty(), ConstraintError,
+               "the ground under the selection cannot be laid flat without overlapping itself: select a rounder "
+               "ring of faces around the part's root");
+  }
+  MatrixX2d xy = MatrixX2d::Zero(X.rows(), 2), z0 = MatrixX2d::Zero(X.rows(), 2);
+  for (const Index v : loop) xy.row(v) = X.row(v).head<2>(), z0(v, 0) = X(v, 2);
+  xy = planar::harmonic_fill(mesh, w, pinned, xy);
+  z0 = planar::harmonic_fill(mesh, w, pinned, z0);
+  out.V.resize(X.rows(), 3);
+  out.V << xy, z0.col(0);
+  for (const Index v : loop) out.V.row(v) = X.row(v);
+  return out;
+}
+
+/// How far the base map squeezes the feature: the 10th percentile over its
+/// edges of (3D length / base map length). A protrusion's walls are squeezed
+/// into a thin ring of the base, which a resampling on the base's plane
+/// would need a far finer refinement than the feature's own to show.
+double squeeze(const MatrixX3d& X, const MatrixX3i& F, const MatrixX2d& uv) {
+  std::vector<double> ratios;
+  ratios.reserve(3 * std::size_t(F.rows()));
+  for (Index f = 0; f < Index(F.rows()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = F(f, k), b = F(f, (k + 1) % 3);
+      const double flat = (uv.row(a) - uv.row(b)).norm(), length = (X.row(a) - X.row(b)).norm();
+      ratios.push_back(flat > 0 ? length / flat : std::numeric_limits<double>::infinity());
+    }
+  const auto tenth = ratios.begin() + std::ptrdiff_t(ratios.size() - 1 - ratios.size() / 10);
+  std::nth_element(ratios.begin(), tenth, ratios.end());
+  return *tenth;
+}
+
 }  // namespace
+
+Carry parse_carry(const std::string& name) {
+  if (name == "auto") return Carry::Auto;
+  if (name == "always") return Carry::Always;
+  if (name == "never") return Carry::Never;
+  PM_REQUIRE(false, InvalidInputError, "carry must be \"auto\", \"always\" or \"never\", got \"", name, "\"");
+  return Carry::Auto;
+}
 
 Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vector<Index>& feature_faces,
                         const ExtractFeatureOptions& o, Progress* progress) {
@@ -108,7 +205,7 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   };
 
   if (progress) progress->report(0.02, "base surface");
-  const MatrixX3d base = normalise(base_surface(mesh, patch));
+  MatrixX3d base = normalise(base_surface(mesh, patch));
   const MatrixX3d feature = normalise(X);
 
   // Base map, free boundary, placed canonically (centred, turned) both as a
@@ -131,9 +228,32 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
     place_canonically(base, patch.F, start);
     mo.initial_uv = start;
   }
-  planar::PlanarMapResult base_map = run_stage("base map", 0.05, 0.4, progress, [&](Progress* p) {
-    return fold_free_map(base, patch.F, mo, "base", p);
-  });
+  planar::PlanarMapResult base_map;
+  bool flat = false;  // the base had to be laid flat another way: a long protrusion
+  try {
+    base_map = run_stage("base map", 0.05, 0.4, progress, [&](Progress* p) {
+      return fold_free_map(base, patch.F, mo, "base", p);
+    });
+  } catch (const MeshError& e) {
+    // Folds that untangling cannot undo, or faces the thin plate collapsed.
+    if (!dynamic_cast<const ConstraintError*>(&e) && !dynamic_cast<const DegenerateFaceError*>(&e)) throw;
+    PM_REQUIRE(patch.boundary_loops.size() == 1, SelectionTopologyError,
+               "the selection is a ring around a long part whose ground cannot be laid flat: select the whole "
+               "part, up to and including its tip, with a ring of faces around its root");
+    flat = true;
+  }
+  // A base map whose boundary crosses itself winds round twice (no face is
+  // turned over, yet the domain overlaps): a disc's base is laid flat then.
+  if (!flat && patch.boundary_loops.size() == 1) {
+    std::vector<Eigen::Vector2d> loop;
+    for (const Index v : patch.boundary_loops.front()) loop.push_back(base_map.uv.row(v).transpose());
+    flat = self_crossing(loop);
+  }
+  if (flat) {
+    FlatBase laid = flat_base(feature, patch.F, patch.boundary_loops.front());
+    base = std::move(laid.V);
+    base_map.uv = std::move(laid.uv);
+  }
   const MapLocation at0 = place_canonically(base, patch.F, base_map.uv);
   mo.init = planar::PlanarInit::Auto;
   mo.initial_uv.reset();
@@ -143,9 +263,47 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
     mo.pinned.insert(mo.pinned.end(), loop.begin(), loop.end());
   mo.pinned_uv.resize(Index(mo.pinned.size()), 2);
   for (std::size_t k = 0; k < mo.pinned.size(); ++k) mo.pinned_uv.row(k) = base_map.uv.row(mo.pinned[k]);
-  const planar::PlanarMapResult feature_map = run_stage("feature map", 0.4, 0.85, progress, [&](Progress* p) {
-    return fold_free_map(feature, patch.F, mo, "feature", p);
-  });
+  // A long protrusion (a tube closed at its tip, pinned along its rim) has
+  // no such map, or one too squeezed to resample: it is carried as its own
+  // mesh, its map the base map.
+  PM_REQUIRE(!(flat && o.carry == Carry::Never), SelectionTopologyError,
+             "the selection sticks out too far to be stored as relief on its base: copy it as a part (carry "
+             "\"auto\" or \"always\")");
+  const bool disc = patch.boundary_loops.size() == 1;
+  // A ring around a long part: the base map shrinks the inner border to a
+  // point (its ground is a cap, not a ring), and no paste could meet it.
+  for (const auto& loop : patch.boundary_loops) {
+    double flat_length = 0, length = 0;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Index a = loop[k], b = loop[(k + 1) % loop.size()];
+      flat_length += (base_map.uv.row(a) - base_map.uv.row(b)).norm();
+      length += (base.row(a) - base.row(b)).norm();
+    }
+    PM_REQUIRE(disc || flat_length > 0.01 * length, SelectionTopologyError,
+               "the selection is a ring around a long part: select the whole part, up to and including its tip, "
+               "with a ring of faces around its root");
+  }
+  PM_REQUIRE(disc || o.carry != Carry::Always, SelectionTopologyError,
+             "the selection is a ring: only a part selected whole, up to and including its tip, can be carried");
+  bool carry = o.carry == Carry::Always || flat ||
+               (o.carry == Carry::Auto && disc && squeeze(feature, patch.F, base_map.uv) > kCarrySqueeze);
+  std::optional<planar::PlanarMapResult> feature_map;
+  if (!carry) {
+    try {
+      feature_map = run_stage("feature map", 0.4, 0.85, progress, [&](Progress* p) {
+        return fold_free_map(feature, patch.F, mo, "feature", p);
+      });
+    } catch (const ConstraintError&) {
+      PM_REQUIRE(o.carry == Carry::Auto && patch.boundary_loops.size() == 1, SelectionTopologyError,
+                 patch.boundary_loops.size() == 1
+                     ? "the selection sticks out too far to be stored as relief on its base: copy it as a part "
+                       "(carry \"auto\" or \"always\")"
+                     : "the selection is a ring around a long part that cannot be laid flat between its two "
+                       "borders: select the whole part, up to and including its tip, with a ring of faces around "
+                       "its root");
+      carry = true;
+    }
+  }
   if (progress) progress->report(0.85, "frame");
 
   // The feature frame: the base at uv = 0 (for an annulus uv = 0 lies in the
@@ -165,7 +323,8 @@ Feature extract_feature(const MatrixX3d& V, const MatrixX3i& F, const std::vecto
   out.V = to_frame(feature);
   out.base_V = to_frame(base);
   out.base_uv = scale * base_map.uv;
-  out.uv = scale * feature_map.uv;
+  out.carried = carry;
+  out.uv = out.carried ? out.base_uv : MatrixX2d(scale * feature_map->uv);
   for (Index v : mo.pinned) out.uv.row(v) = out.base_uv.row(v);  // bit-identical boundaries
   out.boundary_loops = patch.boundary_loops;
   out.source_faces = patch.faces;

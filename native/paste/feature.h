@@ -42,7 +42,7 @@ constexpr int kMaxFeatureResolution = 2048;
 struct Feature {
   MatrixX3i F;              ///< #Fs by 3 faces (local vertex indices, source orientation)
   MatrixX3d V;              ///< #Vs by 3 feature positions, feature frame
-  MatrixX2d uv;             ///< #Vs by 2 feature map (fold-free; boundary = base_uv's exactly)
+  MatrixX2d uv;             ///< #Vs by 2 feature map (fold-free; boundary = base_uv's exactly; = base_uv if carried)
   MatrixX3d base_V;         ///< #Vs by 3 base surface positions, feature frame (same faces F)
   MatrixX2d base_uv;        ///< #Vs by 2 base map (fold-free, area centroid at 0)
   /// Boundary loops in local indices, each ordered the way its faces
@@ -53,6 +53,15 @@ struct Feature {
 
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();     ///< frame origin, source coordinates
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();   ///< columns e_u, e_v, n, source coordinates
+
+  /// Carried as its own mesh (a long protrusion: a trunk, a horn with its
+  /// root, a limb). Its map cannot be both fold-free and pinned to the base
+  /// map's boundary (a tube closed at its tip, pinned to a circle), so `uv`
+  /// is the base map itself (base_uv: fold-free, the same boundary) and
+  /// PasteFit::KeepForm pastes the feature's own triangles, placed rigidly and
+  /// sewn into a hole cut in the target, instead of resampling it on the
+  /// target's refined faces (where its tip would be squeezed out of reach).
+  bool carried = false;
 
   double radius = 0;            ///< max |uv| over the boundary
   double area = 0;              ///< 3D area of the feature

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "common/errors.h"
@@ -14,6 +15,8 @@
 #include "paste/disc_map.h"
 #include "paste/disc_region.h"
 #include "paste/exponential_map.h"
+#include "paste/fill_between_loops.h"
+#include "paste/plane_polygon.h"
 #include "paste/refine_region.h"
 #include "paste/locate_in_map.h"
 #include "paste/sample_feature.h"  // bilinear_displacement
@@ -110,6 +113,13 @@ FeaturePlane feature_plane(const Feature& f) {
   for (Index k = 0; k < Index(f.F.rows()) && !folds; ++k) {
     const Eigen::Vector2d a = map.q[f.F(k, 0)], b = map.q[f.F(k, 1)], c = map.q[f.F(k, 2)];
     folds = !(cross2(b - a, c - a) > 0);
+  }
+  // A boundary that crosses itself (a map that winds round twice, though no
+  // face is turned over) would give the carried feature's seam no ring.
+  for (std::size_t l = 0; l < f.boundary_loops.size() && !folds; ++l) {
+    std::vector<Eigen::Vector2d> loop;
+    for (const Index v : f.boundary_loops[l]) loop.push_back(map.q[v]);
+    folds = self_crossing(loop);
   }
   // A base curved past the map's reach (it folds): the base map, which never does.
   if (folds) return use_base_map();
@@ -234,6 +244,165 @@ class PlaneLocator {
   double half_, cell_;
   std::vector<std::vector<Index>> buckets_;
 };
+
+
+/// A carried feature sewn into the target (see A FEATURE CARRIED AS ITS OWN
+/// MESH in the header): what place() commits.
+struct Sewn {
+  MatrixX3d V;
+  MatrixX3i F;
+  VectorXi new_faces, replaced_faces, new_face_parents;
+};
+
+/// target: the target; q: its feature-plane coordinates where reached;
+/// normals: its vertex normals; candidates: the mapped faces the feature's
+/// disc touches; polygon: the feature's boundary in the plane
+/// (counter-clockwise), loop: its vertices; placed: the feature's vertices
+/// placed in the world; up: the anchor's normal; shift(i): the blend's
+/// displacement of target vertex i (zero beyond the rim).
+template <typename Shift>
+Sewn sew_carried(const TriMesh& target, const std::vector<Eigen::Vector2d>& q, const std::vector<char>& reached,
+                 const MatrixX3d& normals, const std::vector<Index>& candidates, Index anchor_face,
+                 const std::vector<Eigen::Vector2d>& polygon, const std::vector<Index>& loop,
+                 const std::vector<Eigen::Vector2d>& feature_q, const MatrixX3i& feature_F, const MatrixX3d& placed,
+                 const Eigen::Vector3d& up, double rim, const Shift& shift) {
+  const MatrixX3d& V = target.V();
+  const MatrixX3i& F = target.F();
+  const Index nv = Index(V.rows()), nf = Index(F.rows());
+  const Csr& corners = target.vertex_corners();
+  const Csr& EF = target.edge_faces();
+  const MatrixX3i& FE = target.face_edges();
+  MatrixX3d moved(nv, 3);  // the target bent by the blend
+  for (Index v = 0; v < nv; ++v) moved.row(v) = V.row(v) + shift(v).transpose();
+
+  // The faces cut away: every face around a vertex within half a boundary
+  // segment of the feature's boundary or inside it (the seam then has room
+  // for well-shaped triangles), and those the boundary crosses or holds a
+  // corner of; the anchor's face in any case.
+  double segment = 0;
+  for (std::size_t k = 0; k < polygon.size(); ++k) segment += (polygon[(k + 1) % polygon.size()] - polygon[k]).norm();
+  const double clearance = 0.5 * segment / double(polygon.size());
+  std::vector<char> cut(std::size_t(nf), 0);
+  std::vector<Index> faces;
+  // Faces the boundary meets must go (else the feature does not fit);
+  // those only near it go where the plane reaches them.
+  const auto take = [&](Index f, bool needed) {
+    if (cut[f]) return;
+    const bool mapped = reached[F(f, 0)] && reached[F(f, 1)] && reached[F(f, 2)];
+    PM_REQUIRE(mapped || !needed, TargetTooSmallError,
+               "the feature's root does not fit on the surface here; move it or make it smaller");
+    if (!mapped) return;
+    cut[f] = 1;
+    faces.push_back(f);
+  };
+  const auto take_around = [&](Index v) {
+    for (Index j = corners.begin(v); j < corners.end(v); ++j) take(corners.items[j] / 3, false);
+  };
+  take(anchor_face, true);
+  for (const Index f : candidates) {
+    const Eigen::Vector2d &a = q[F(f, 0)], &b = q[F(f, 1)], &c = q[F(f, 2)];
+    bool meets = false;
+    for (int k = 0; k < 3; ++k)
+      if (inside_or_near(polygon, q[F(f, k)], clearance)) {
+        // Inside: every face around it must go; only near: where mapped.
+        if (inside_or_near(polygon, q[F(f, k)], 0.0))
+          for (Index j = corners.begin(F(f, k)); j < corners.end(F(f, k)); ++j) take(corners.items[j] / 3, true);
+        take_around(F(f, k));
+        meets = true;
+      }
+    for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size() && !meets; j = i++) {
+      const Eigen::Vector2d& x = polygon[i];
+      const double s0 = plane_cross(b - a, x - a), s1 = plane_cross(c - b, x - b), s2 = plane_cross(a - c, x - c);
+      meets = (s0 >= 0 && s1 >= 0 && s2 >= 0) || segments_meet(a, b, polygon[j], x) ||
+              segments_meet(b, c, polygon[j], x) || segments_meet(c, a, polygon[j], x);
+    }
+    if (meets) take(f, true);
+  }
+
+  // The seam: the hole's edges and the boundary's as loops in the plane,
+  // the ring between them triangulated. A seam face turned over in the bent
+  // target (a hole vertex bent past the boundary) widens the hole by a ring.
+  std::vector<Eigen::Vector2d> points;
+  std::vector<Index> point_vertex;  // output vertex of each point
+  std::optional<MatrixX3i> seam;
+  for (int widen = 0;; ++widen) {
+    points.clear(), point_vertex.clear();
+    std::vector<Index> point_of(std::size_t(nv), -1);
+    std::vector<std::array<Index, 2>> segments;
+    std::vector<Index> rim_vertices;
+    const auto point = [&](Index v) {
+      if (point_of[v] < 0) {
+        point_of[v] = Index(points.size()), points.push_back(q[v]), point_vertex.push_back(v);
+        rim_vertices.push_back(v);
+      }
+      return point_of[v];
+    };
+    for (const Index f : faces)
+      for (int k = 0; k < 3; ++k) {
+        const Index e = FE(f, k);
+        PM_REQUIRE(EF.size(e) == 2, TargetTooSmallError,
+                   "the feature reaches the target's boundary (an open edge of the mesh) here; move it inwards or "
+                   "make it smaller");
+        const Index other = EF.items[EF.begin(e)] == f ? EF.items[EF.begin(e) + 1] : EF.items[EF.begin(e)];
+        if (!cut[other]) segments.push_back({point(F(f, (k + 1) % 3)), point(F(f, (k + 2) % 3))});  // opposite k
+      }
+    const Index first = Index(points.size());
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      points.push_back(polygon[k]);
+      point_vertex.push_back(nv + loop[k]);
+      segments.push_back({first + Index(k), first + Index((k + 1) % loop.size())});
+    }
+    seam = fill_between_loops(points, segments);
+    PM_REQUIRE(seam.has_value() && seam->rows() > 0, TargetTooSmallError,
+               "the surface around the feature's root folds over here; move the feature or make it smaller");
+    const auto position = [&](Index i) -> Eigen::Vector3d {
+      const Index v = point_vertex[i];
+      return v < nv ? Eigen::Vector3d(moved.row(v).transpose()) : Eigen::Vector3d(placed.row(v - nv).transpose());
+    };
+    bool turned = false;
+    for (Index r = 0; r < seam->rows() && !turned; ++r) {
+      const Eigen::Vector3d a = position((*seam)(r, 0)), b = position((*seam)(r, 1)), c = position((*seam)(r, 2));
+      Eigen::Vector3d reference = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k)
+        if (point_vertex[(*seam)(r, k)] < nv) reference += normals.row(point_vertex[(*seam)(r, k)]).transpose();
+      if (reference.squaredNorm() == 0) reference = up;
+      turned = !((b - a).cross(c - a).dot(reference) > 0);
+    }
+    if (!turned || widen == 2) break;
+    for (const Index v : rim_vertices) take_around(v);
+  }
+
+  Sewn out;
+  out.V.resize(nv + Index(placed.rows()), 3);
+  out.V << moved, placed;
+  std::sort(faces.begin(), faces.end());
+  const Index kept = nf - Index(faces.size()), sewn = Index(seam->rows()), own = Index(feature_F.rows());
+  out.F.resize(kept + sewn + own, 3);
+  Index row = 0;
+  for (Index f = 0; f < nf; ++f)
+    if (!cut[f]) out.F.row(row++) = F.row(f);
+  // Each new face's parent: the cut face under its centre in the plane.
+  PlaneLocator locator(faces, F, q, rim);
+  out.new_faces.resize(sewn + own);
+  out.new_face_parents.resize(sewn + own);
+  const auto add = [&](const Eigen::Vector3i& face, const Eigen::Vector2d& centre) {
+    Index parent = anchor_face;
+    Eigen::Vector3d bary;
+    locator.locate(centre, &parent, &bary);
+    out.new_faces[row - kept] = row;
+    out.new_face_parents[row - kept] = parent;
+    out.F.row(row++) = face.transpose();
+  };
+  for (Index r = 0; r < sewn; ++r) {
+    const Eigen::Vector3i face(point_vertex[(*seam)(r, 0)], point_vertex[(*seam)(r, 1)], point_vertex[(*seam)(r, 2)]);
+    add(face, (points[(*seam)(r, 0)] + points[(*seam)(r, 1)] + points[(*seam)(r, 2)]) / 3.0);
+  }
+  for (Index r = 0; r < own; ++r)
+    add(Eigen::Vector3i(nv + feature_F(r, 0), nv + feature_F(r, 1), nv + feature_F(r, 2)),
+        (feature_q[feature_F(r, 0)] + feature_q[feature_F(r, 1)] + feature_q[feature_F(r, 2)]) / 3.0);
+  out.replaced_faces = Eigen::Map<const VectorXi>(faces.data(), Index(faces.size()));
+  return out;
+}
 
 }  // namespace
 
@@ -463,6 +632,75 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   std::sort(refined.begin(), refined.end());
   const double map_seconds = seconds_since(map_start);
 
+  // The RBF that bends the target to the feature's boundary (where it lands:
+  // the target point with the same q), by back-substitution; sets lift.
+  const auto bend = [&]() -> Eigen::MatrixXd {
+    const Index moving = Index(moving_points.rows()), controls = Index(centres.rows());
+    PlaneLocator locator(region, F, q, rim);
+    Eigen::MatrixXd values = Eigen::MatrixXd::Zero(controls, 3);
+    for (Index c = 0; c < moving; ++c) {
+      Index f = -1;
+      Eigen::Vector3d b;
+      PM_REQUIRE(locator.locate(centres.row(c).transpose(), &f, &b), TargetTooSmallError,
+                 "the target does not extend under the feature's boundary here; move it or make it smaller");
+      const Eigen::Vector3d under =
+          (b(0) * V.row(F(f, 0)) + b(1) * V.row(F(f, 1)) + b(2) * V.row(F(f, 2))).transpose();
+      values.row(c) = (world(moving_points.row(c).transpose()) - under).transpose();
+    }
+    lift = -(values.topRows(moving) * n).mean();
+    values.topRows(moving).rowwise() += lift * n.transpose();
+    return rbf->solve(values);
+  };
+  const bool follow = options.fit == PasteFit::FollowSurface;
+  if (feature.carried && !follow) {
+    const Eigen::MatrixXd coefficients = bend();
+    const std::vector<Index>& loop = feature.boundary_loops.front();
+    std::vector<Eigen::Vector2d> polygon;
+    for (const Index v : loop) polygon.push_back(plane.q[v]);
+    MatrixX3d placed(feature.V.rows(), 3);
+    for (Index i = 0; i < Index(placed.rows()); ++i) placed.row(i) = world(feature.V.row(i).transpose()).transpose();
+    // The blend at the target's vertices within the rim, by one product.
+    std::vector<Index> blended;
+    for (const Index v : map.vertices)
+      if (q[v].norm() < rim) blended.push_back(v);
+    Eigen::MatrixXd points(Index(blended.size()), 2);
+    for (std::size_t k = 0; k < blended.size(); ++k) points.row(Index(k)) = q[blended[k]].transpose();
+    const Eigen::MatrixXd shift = rbf->evaluate(points, coefficients);
+    std::vector<Index> shift_row(std::size_t(nv), -1);
+    for (std::size_t k = 0; k < blended.size(); ++k) shift_row[blended[k]] = Index(k);
+    Sewn sewn = sew_carried(mesh, q, map.reached, vertex_normals, refined, anchor_face, polygon, loop, plane.q,
+                            feature.F, placed, n, rim, [&](Index v) -> Eigen::Vector3d {
+                              return shift_row[v] < 0 ? Eigen::Vector3d::Zero()
+                                                      : Eigen::Vector3d(shift.row(shift_row[v]).transpose());
+                            });
+    Index moved = 0;
+    for (Index v = 0; v < nv; ++v) moved += (sewn.V.row(v) != V.row(v));
+    out_V = std::move(sewn.V);
+    out_F = std::move(sewn.F);
+    new_faces = std::move(sewn.new_faces);
+    replaced_faces = std::move(sewn.replaced_faces);
+    new_face_parents = std::move(sewn.new_face_parents);
+    stats.level = 0;
+    stats.refined_faces = Index(replaced_faces.size());
+    stats.replaced_faces = Index(replaced_faces.size());
+    stats.moved_vertices = moved;
+    stats.feature_vertices = Index(feature.V.rows());
+    stats.control_points = Index(centres.rows());
+    options = next;
+    anchor_point = p;
+    normal = n;
+    stats.anchor_face = anchor_face;
+    stats.lift = lift;
+    stats.feature_radius = radius * scale;
+    stats.influence_radius = rim * scale;
+    stats.disc_map = use_disc;
+    stats.disc_faces = use_disc ? Index(disc.faces.size()) : 0;
+    stats.disc_iterations = disc_iterations;
+    stats.map_seconds = map_seconds;
+    stats.update_seconds = seconds_since(t0);
+    return;
+  }
+
   // 3. Level: refined edges about as long as the feature's short ones, scaled.
   int level = options.subdivision_level;
   if (level < 0) {
@@ -472,7 +710,6 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
     length /= 3.0 * double(refined.size());
     level = int(std::clamp(std::ceil(std::log2(length / (scale * plane.detail))), 0.0, 6.0));
   }
-  const bool follow = options.fit == PasteFit::FollowSurface;
   RefinedRegion refined_mesh = refiner.refine(refined, level, follow ? LimitAt::RegionVertices : LimitAt::Nowhere);
   const Index total = Index(refined_mesh.V.rows());
   std::vector<Eigen::Vector2d> q_out(std::size_t(total), Eigen::Vector2d::Zero());
@@ -489,26 +726,10 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
     return follow && refined_mesh.region_interior(i) ? refined_mesh.limit.row(i) : refined_mesh.V.row(i);
   };
 
-  // 4. Keep form: the RBF that bends the target to the feature's boundary
-  // (where it lands: the target point with the same q), by back-substitution.
-  const Index moving = Index(moving_points.rows()), controls = Index(centres.rows());
+  // 4. Keep form: the RBF that bends the target to the feature's boundary.
+  const Index controls = Index(centres.rows());
   Eigen::MatrixXd coefficients;
-  if (!follow) {
-    PlaneLocator locator(region, F, q, rim);
-    Eigen::MatrixXd values = Eigen::MatrixXd::Zero(controls, 3);
-    for (Index c = 0; c < moving; ++c) {
-      Index f = -1;
-      Eigen::Vector3d b;
-      PM_REQUIRE(locator.locate(centres.row(c).transpose(), &f, &b), TargetTooSmallError,
-                 "the target does not extend under the feature's boundary here; move it or make it smaller");
-      const Eigen::Vector3d under =
-          (b(0) * V.row(F(f, 0)) + b(1) * V.row(F(f, 1)) + b(2) * V.row(F(f, 2))).transpose();
-      values.row(c) = (world(moving_points.row(c).transpose()) - under).transpose();
-    }
-    lift = -(values.topRows(moving) * n).mean();
-    values.topRows(moving).rowwise() += lift * n.transpose();
-    coefficients = rbf->solve(values);
-  }
+  if (!follow) coefficients = bend();
 
   // 5. Positions: the feature inside its domain, the blended base elsewhere
   // within the rim; the rest as it was.

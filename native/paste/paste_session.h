@@ -51,6 +51,18 @@
 // session, exactly along the domain's boundary); follow surface, the Loop
 // limit position plus the feature's vector displacement map in the limit
 // surface's frame (PasteFit).
+//
+// A FEATURE CARRIED AS ITS OWN MESH (Feature::carried: a trunk, a horn with
+// its root, a limb; with PasteFit::KeepForm). A long protrusion squeezed into
+// its base's plane would need the target refined far past level 6 to be
+// resampled, so its own triangles are pasted instead: placed as above, the
+// target bent around its boundary by the same RBF, the target's faces that
+// the boundary (in the feature plane) encloses, crosses or touches cut away,
+// and the ring between the hole and the boundary filled with triangles that
+// use only their vertices (paste/fill_between_loops.h). New vertices: the
+// feature's, in its order; new faces: the seam, then the feature's own. The
+// target's vertices inside the hole stay in V, used by no face. FollowSurface
+// resamples a carried feature through its base map as any other.
 #pragma once
 
 #include <Eigen/Core>

@@ -122,6 +122,9 @@ py::dict to_arrays(const Feature& f) {
   d["grid_spacing"] = scalar(f.grid_spacing);
   d["displacement"] = grid(f, f.displacement);
   d["mask"] = mask_grid(f);
+  py::array_t<std::uint8_t> carried{std::vector<py::ssize_t>{}};
+  carried.mutable_data()[0] = std::uint8_t(f.carried);
+  d["carried"] = carried;
   return d;
 }
 
@@ -172,6 +175,12 @@ Feature from_arrays(const py::dict& d) {
   for (py::ssize_t k = 0; k < mask.size(); ++k) {
     PM_REQUIRE(mask.data()[k] == 0 || mask.data()[k] == 1, InvalidInputError, "\"mask\" must hold 0 or 1");
     f.mask[Index(k)] = Index(mask.data()[k]);
+  }
+  // Absent in features stored before carried features existed: not carried.
+  if (d.contains("carried")) {
+    const auto carried = int_array(d, "carried", {});
+    PM_REQUIRE(carried.data()[0] == 0 || carried.data()[0] == 1, InvalidInputError, "\"carried\" must be 0 or 1");
+    f.carried = carried.data()[0] == 1;
   }
   return f;
 }
@@ -526,6 +535,9 @@ void bind_paste(py::module_& m) {
       .def_property_readonly("axes",
                              [](const Feature& f) { return to_numpy(Eigen::Matrix<double, 3, 3, Eigen::RowMajor>(f.axes)); },
                              "(3, 3) columns e_u, e_v, n in source coordinates: x_source = origin + axes @ x_frame")
+      .def_readonly("carried", &Feature::carried,
+                    "True for a long protrusion (a trunk, a horn with its root): pasted with keep_form as its own "
+                    "mesh sewn into the target; its uv is the base map")
       .def_readonly("radius", &Feature::radius, "max |uv| over the boundary")
       .def_readonly("area", &Feature::area)
       .def_readonly("mean_edge_length", &Feature::mean_edge_length)
@@ -544,28 +556,34 @@ void bind_paste(py::module_& m) {
                   "(InvalidInputError)")
       .def("__repr__", [](const Feature& f) {
         return "<Feature faces=" + std::to_string(f.F.rows()) + " loops=" + std::to_string(f.boundary_loops.size()) +
-               " radius=" + std::to_string(f.radius) + " resolution=" + std::to_string(f.resolution) + ">";
+               " radius=" + std::to_string(f.radius) + " resolution=" + std::to_string(f.resolution) +
+               (f.carried ? " carried" : "") + ">";
       });
 
   m.def(
       "extract_feature",
       [](const py::object& V, const py::object& F, const py::object& feature_faces, int resolution,
-         const std::string& backend, py::object progress) {
+         const std::string& carry, const std::string& backend, py::object progress) {
         const MatrixX3d v = to_vertices(V);
         const MatrixX3i f = to_faces(F);
         const std::vector<Index> faces = to_indices(feature_faces, "feature_faces");
         paste::ExtractFeatureOptions o;
         o.resolution = resolution;
+        o.carry = paste::parse_carry(carry);
         o.backend = compute::parse_backend(backend);
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return paste::extract_feature(v, f, faces, o, bridge.get()); });
       },
       py::arg("V"), py::arg("F"), py::arg("feature_faces"), py::kw_only(), py::arg("resolution") = 64,
-      py::arg("backend") = "auto", py::arg("progress") = py::none(),
+      py::arg("carry") = "auto", py::arg("backend") = "auto", py::arg("progress") = py::none(),
       R"doc(Cut a feature out of a surface for pasting (thesis 5.2): the selected faces must be one
 edge-connected disc or annulus. The base surface spans its boundary (biharmonic, tangent to
-the surroundings); the base map is a free-boundary isometric map centred at its area centroid;
-the feature map is isometric with its boundary pinned to the base map. Returns a Feature
+the surroundings; laid flat on the boundary's plane where that folds); the base map is a
+free-boundary isometric map centred at its area centroid; the feature map is isometric with its
+boundary pinned to the base map. carry: "auto" (default) makes a long protrusion (no fold-free
+pinned map, or its base map squeezes its walls over kCarrySqueeze times) a carried feature (Feature.carried:
+pasted with keep_form as its own mesh, its uv the base map); "always" (disc selections) or
+"never" (SelectionTopologyError instead). Returns a Feature
 (positions in the feature frame at the base's uv = 0) with a resolution x resolution grid of
 nodes over [-radius, radius]^2 holding the displacement feature - base in the base's local frame.
 Raises EmptySelectionError, WholeMeshSelectedError, SelectionTopologyError, InvalidInputError,

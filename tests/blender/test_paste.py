@@ -329,6 +329,55 @@ def test_copy_feature_reports_bad_selections_and_stores_nothing():
     assert not bpy.ops.paramorph.copy_feature.poll()  # Object Mode: Edit Mode only
 
 
+def test_a_long_trunk_copies_and_pastes_whole_and_closed():
+    # Issue 32: a tube 6 times as long as wide, with a ring of its body around
+    # the root, failed at Copy Feature with a message about pins.
+    import os
+    import sys
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(__file__)), "native"))
+    import meshes
+    pm = native()
+    V, F, selection, ratio = meshes.protrusion(3.0, 0)
+    assert ratio > 6
+    mesh = bpy.data.meshes.new("Trunk")
+    mesh.from_pydata(V.tolist(), [], F.tolist())
+    source = bpy.data.objects.new("Trunk", mesh)
+    bpy.context.collection.objects.link(source)
+    activate(source)
+    # Its tip left out: a ring around a long part, refused in those words, nothing stored.
+    along = V[F[selection]].mean(axis=1) @ meshes.tentacle_directions(1, 1)[0]
+    ring = np.zeros(len(mesh.polygons), dtype=bool)
+    ring[selection[along < np.quantile(along, 0.7)]] = True
+    select_in_edit_mode(source, ring)
+    with pytest.raises(RuntimeError, match="ring around a long part") as refusal:
+        bpy.ops.paramorph.copy_feature()
+    assert "pin" not in str(refusal.value)
+    assert feature_store.latest() is None
+    bpy.ops.object.mode_set(mode="OBJECT")
+    mask = np.zeros(len(mesh.polygons), dtype=bool)
+    mask[selection] = True
+    select_in_edit_mode(source, mask)
+    assert bpy.ops.paramorph.copy_feature() == {"FINISHED"}
+    bpy.ops.object.mode_set(mode="OBJECT")
+    feature = pm.Feature.from_arrays(feature_store.load_arrays(feature_store.latest()))
+    assert feature.carried and len(feature.faces) >= len(selection)  # (Edit Mode may add a face whose corners are all selected)
+
+    target = quad_sphere()
+    activate(target)
+    polygons0 = len(target.data.polygons)
+    assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6), scale=0.5) == {"FINISHED"}
+    tmesh = target.data
+    assert np.all(edge_face_counts(tmesh) == 2)  # closed: the seam leaves no crack
+    Vt = coordinates(tmesh)
+    # The trunk stands out of the sphere whole (3 source units long, pasted at half size).
+    assert np.linalg.norm(Vt, axis=1).max() > 1.6 + 0.5 * 2.5
+    # Its own faces are all there, and no vertex is left loose inside the hole.
+    assert len(tmesh.polygons) > polygons0 + len(selection) - 200
+    loop_vertex = np.empty(len(tmesh.loops), dtype=np.int32)
+    tmesh.loops.foreach_get("vertex_index", loop_vertex)
+    assert len(np.unique(loop_vertex)) == len(tmesh.vertices)
+
+
 def test_paste_reports_what_is_missing_and_changes_nothing():
     native()
     target = quad_sphere()

@@ -396,6 +396,7 @@ def bad_value(g, kind):
 
 PROGRESS = ("progress",)
 BACKEND = ("enum", ["auto", "cpu", "opencl"])
+CARRY = ("enum", ["auto", "always", "never"])
 
 
 # --- the table ----------------------------------------------------------------------
@@ -737,14 +738,16 @@ def _feature_source(g):
 
 def gen_extract_feature(g):
     m, faces = _feature_source(g)
-    return (m.V, m.F, faces), g.options({"resolution": ("int", 2, 64), "backend": BACKEND,
+    return (m.V, m.F, faces), g.options({"resolution": ("int", 2, 64), "carry": CARRY, "backend": BACKEND,
                                          "progress": PROGRESS})
 
 
 def _clean_feature(g):
-    """A Feature built in the child from a bump on a plane (always extractable)."""
+    """A Feature built in the child from a bump on a plane (always extractable),
+    now and then carried as its own mesh (pasted sewn in)."""
     V, F, faces = meshes.bump_plane(n=int(g.rng.integers(8, 16)), height=0.1, sigma=0.3, radius=0.6)
     return Call("extract_feature", (V, F, faces), {"resolution": int(g.rng.integers(4, 24)),
+                                                   "carry": "always" if g.chance(0.3) else "auto",
                                                    "backend": "cpu"})
 
 

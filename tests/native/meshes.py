@@ -285,6 +285,23 @@ def bend_limb(V, axis, root, bend_length, degrees):
     return np.where((s > 0)[:, None], bent, V)
 
 
+def protrusion(length=3.0, bend_degrees=0.0, subdivisions=4):
+    """A long protrusion as an artist selects it to copy: a unit sphere with one
+    tube closed at its tip (tentacle_sphere, cut_angle 0.3: about 0.47 wide,
+    `length` long), and the selection of the tube's faces with a ring of the
+    sphere around its root. bend_degrees bends the tube near its root
+    (bend_limb: 60 a horn, 150 a trunk hanging back along the body).
+    Returns V, F, selected face indices, length / width."""
+    V, F = tentacle_sphere(subdivisions, tentacles=1, length=length, cut_angle=0.3)
+    d = tentacle_directions(1, 1)[0]
+    if bend_degrees:
+        V = bend_limb(V, d, root=1.25, bend_length=1.2, degrees=bend_degrees)
+    C = V[F].mean(axis=1)
+    cosine = (C / np.linalg.norm(C, axis=1)[:, None]) @ d
+    selection = np.flatnonzero((cosine > np.cos(0.45)) | (np.linalg.norm(C, axis=1) > 1.05))
+    return V, F, selection.astype(np.int32), length / (2 * 0.8 * np.sin(0.3))
+
+
 def box(cells=4, half_extents=(1.0, 1.0, 1.0)):
     """Closed box [-h, h] (h = half_extents) whose six sides are cells x cells
     grids of two triangles each, welded on an integer lattice; outward faces.
