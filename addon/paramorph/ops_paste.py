@@ -105,6 +105,8 @@ def _why_not(error):
         return "the surface under it wraps around a thin part or has a hole"
     if "folds over" in text or "curved" in text or "flattened" in text:
         return "the surface is too curved under it"
+    if "root does not fit" in text:  # a long part's root (issue 32)
+        return "its root does not fit on the surface there"
     return text.split(" (")[0].split(";")[0].split(". ")[0]
 
 

@@ -544,6 +544,9 @@ def test_every_refusal_the_native_side_gives_is_said_in_a_few_plain_words():
         "the target does not extend under the feature's boundary here; move it or make it smaller": edge,
         "the surface under the feature is not a single disc (it wraps around or folds back within the "
         "feature); move the feature or make it smaller": "the surface under it wraps around a thin part or has a hole",
+        "the feature's root does not fit on the surface here; move it or make it smaller":
+            "its root does not fit on the surface there",
+        "the surface around the feature's root folds over here; move the feature or make it smaller": curved,
         "something new; with advice. And more": "something new",
     }
     for text, words in native_messages.items():
