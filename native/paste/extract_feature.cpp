@@ -121,8 +121,9 @@ FlatBase flat_base(const MatrixX3d& X, const MatrixX3i& F, const std::vector<Ind
   FlatBase out;
   std::vector<Eigen::Vector2d> outline;
   for (const Index v : loop) outline.push_back(uv.row(v).transpose());
-  if (!self_crossing(outline)) out.uv = planar::harmonic_fill(mesh, w, pinned, uv);
-  if (self_crossing(outline) || !planar::folded_faces(F, out.uv).empty()) {  // it winds: a circle of its length
+  const bool winds = self_crossing(outline);
+  if (!winds) out.uv = planar::harmonic_fill(mesh, w, pinned, uv);
+  if (winds || !planar::folded_faces(F, out.uv).empty()) {  // a circle of the outline's length instead
     std::vector<double> along{0.0};
     for (std::size_t k = 0; k < loop.size(); ++k)
       along.push_back(along.back() + (X.row(loop[(k + 1) % loop.size()]) - X.row(loop[k])).norm());
@@ -146,8 +147,8 @@ FlatBase flat_base(const MatrixX3d& X, const MatrixX3i& F, const std::vector<Ind
   return out;
 }
 
-/// How far the base map squeezes the feature: the 10th percentile over its
-/// edges of (3D length / base map length). A protrusion's walls are squeezed
+/// How far the base map squeezes the feature: the ratio (3D length / base
+/// map length) that a tenth of its edges exceed. A protrusion's walls are squeezed
 /// into a thin ring of the base, which a resampling on the base's plane
 /// would need a far finer refinement than the feature's own to show.
 double squeeze(const MatrixX3d& X, const MatrixX3i& F, const MatrixX2d& uv) {
