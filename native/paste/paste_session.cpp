@@ -651,6 +651,21 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
     values.topRows(moving).rowwise() += lift * n.transpose();
     return rbf->solve(values);
   };
+  // What either way of pasting records of the placement, once it succeeded.
+  const auto record_placement = [&] {
+    options = next;
+    anchor_point = p;
+    normal = n;
+    stats.anchor_face = anchor_face;
+    stats.lift = lift;
+    stats.feature_radius = radius * scale;
+    stats.influence_radius = rim * scale;
+    stats.disc_map = use_disc;
+    stats.disc_faces = use_disc ? Index(disc.faces.size()) : 0;
+    stats.disc_iterations = disc_iterations;
+    stats.map_seconds = map_seconds;
+    stats.update_seconds = seconds_since(t0);
+  };
   const bool follow = options.fit == PasteFit::FollowSurface;
   if (feature.carried && !follow) {
     const Eigen::MatrixXd coefficients = bend();
@@ -686,18 +701,7 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
     stats.moved_vertices = moved;
     stats.feature_vertices = Index(feature.V.rows());
     stats.control_points = Index(centres.rows());
-    options = next;
-    anchor_point = p;
-    normal = n;
-    stats.anchor_face = anchor_face;
-    stats.lift = lift;
-    stats.feature_radius = radius * scale;
-    stats.influence_radius = rim * scale;
-    stats.disc_map = use_disc;
-    stats.disc_faces = use_disc ? Index(disc.faces.size()) : 0;
-    stats.disc_iterations = disc_iterations;
-    stats.map_seconds = map_seconds;
-    stats.update_seconds = seconds_since(t0);
+    record_placement();
     return;
   }
 
@@ -788,29 +792,18 @@ void PasteSession::Impl::place(const Eigen::Vector3d& anchor, double rotation, d
   // Commit.
   Index moved = 0;
   for (Index v = 0; v < nv; ++v) moved += (out.row(v) != V.row(v));
-  options = next;
-  anchor_point = p;
-  normal = n;
   out_V = std::move(out);
   out_F = std::move(refined_mesh.F);
   new_faces = std::move(refined_mesh.new_faces);
   replaced_faces = std::move(refined_mesh.replaced_faces);
   new_face_parents = std::move(refined_mesh.new_face_parents);
   stats.level = level;
-  stats.anchor_face = anchor_face;
   stats.refined_faces = Index(refined.size());
   stats.replaced_faces = Index(replaced_faces.size());
   stats.moved_vertices = moved;
   stats.feature_vertices = on_feature;
   stats.control_points = controls;
-  stats.lift = lift;
-  stats.feature_radius = radius * scale;
-  stats.influence_radius = rim * scale;
-  stats.disc_map = use_disc;
-  stats.disc_faces = use_disc ? Index(disc.faces.size()) : 0;
-  stats.disc_iterations = disc_iterations;
-  stats.map_seconds = map_seconds;
-  stats.update_seconds = seconds_since(t0);
+  record_placement();
 }
 
 PasteSession::PasteSession(const MatrixX3d& V, const MatrixX3i& F, Feature feature, const PasteOptions& options,
