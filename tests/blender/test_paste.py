@@ -365,6 +365,20 @@ def test_a_long_trunk_copies_and_pastes_whole_and_closed():
     target = quad_sphere()
     activate(target)
     polygons0 = len(target.data.polygons)
+    # The interactive tool slides and turns it with a preview, writing nothing.
+    loaded, _ = ops_paste.load_feature("")
+    V, F, tri_poly = ops_paste.target_arrays(bpy.context, target)
+    session = pm.PasteSession(V, F, loaded, anchor=np.array([0.0, 0.0, 1.6]), scale=0.5)
+    controller = ops_paste.PasteController(session, V, F, tri_poly, 0.0, 0.5)
+    hit = np.array([1.6, 0.0, 0.0])
+    assert controller.handle(event("MOUSEMOVE", "NOTHING"), lambda: hit) == "UPDATED"
+    assert controller.handle(event("R"), lambda: hit) == "UPDATED"
+    assert np.linalg.norm(np.array(session.anchor_point) - hit) < 0.05
+    from paramorph import paste_preview
+    V2, F2, new_faces = session.result()
+    rows = paste_preview.changed_faces(V, V2, F2, new_faces, len(F) - len(session.replaced_faces))
+    assert len(rows) >= len(new_faces) >= len(loaded.faces)
+    assert len(target.data.polygons) == polygons0
     assert bpy.ops.paramorph.paste_feature(location=(0.0, 0.0, 1.6), scale=0.5) == {"FINISHED"}
     tmesh = target.data
     assert np.all(edge_face_counts(tmesh) == 2)  # closed: the seam leaves no crack
