@@ -122,7 +122,7 @@ struct PasteOptions {
 struct PasteStats {
   int level = 0;                  ///< subdivision level used
   Index anchor_face = -1;         ///< target face holding the snapped anchor
-  Index refined_faces = 0;        ///< target faces refined under the feature
+  Index refined_faces = 0;        ///< target faces refined under the feature (carried: cut under its root)
   Index replaced_faces = 0;       ///< target faces not kept as they were (refined + stitched)
   Index moved_vertices = 0;       ///< target vertices moved (blend and feature)
   Index feature_vertices = 0;     ///< output vertices placed on the feature
