@@ -17,9 +17,10 @@
 //      overlay (its neighbour across its longest side in the same face of A
 //      and of B: the four corners are coplanar at both ends) has that side
 //      flipped where both new faces are better, which keeps both ends exact.
-// What it cannot remove: whole tiny triangles around an input vertex that
-// lies a few 1e-6 of the diagonal from the other input's edge (joining them
-// would move an end further than the tolerance).
+// What it cannot remove: whole tiny triangles (sides under 1e-4 of the
+// diagonal) around an input vertex that lies a hair (1e-6 to 1e-5 of the
+// diagonal) from the other input's edge: joining them would move an end
+// further than the tolerance.
 #pragma once
 
 #include "common/progress.h"

