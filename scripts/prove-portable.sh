@@ -23,7 +23,12 @@
 # into Blender 4.5 (PyPI bpy, temporary user folders) and Sphere Map,
 # Isometric Unwrap, Morph To, Copy and Paste Feature run from it
 # (tests/blender/test_install.py -k release).
+# Each suite's root with its Python installed is cached too (SUITE-python),
+# so a check copies it and installs only the wheel; --prepare builds the
+# cached roots and Pythons alone, needing no wheels (scripts/test.sh runs it
+# beside the build: it is mostly downloads).
 # Usage: scripts/prove-portable.sh [--wheels DIR] [--suites "bullseye bookworm trixie"] [--tests full|quick] [--no-blender]
+#        scripts/prove-portable.sh --prepare [--suites ...]
 # Needs root (debootstrap, chroot, mount) and the Debian archive and PyPI.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -33,8 +38,10 @@ wheels=${PARAMORPH_RELEASE_DIR:-dist}
 suites="bullseye bookworm trixie"
 tests=full
 blender=yes
+prepare_only=no
 while [ $# -gt 0 ]; do
   case "$1" in
+    --prepare) prepare_only=yes; shift ;;
     --no-blender) blender=no; shift ;;
     --wheels) wheels=$2; shift 2 ;;
     --suites) suites=$2; shift 2 ;;
@@ -42,9 +49,11 @@ while [ $# -gt 0 ]; do
     *) echo "prove-portable: unknown argument $1" >&2; exit 2 ;;
   esac
 done
-wheels=$(readlink -f "$wheels")
-ls "$wheels"/paramorph-*manylinux*.whl >/dev/null 2>&1 ||
-  { echo "prove-portable: no wheels in $wheels (run scripts/release.sh first, or pass --wheels)" >&2; exit 1; }
+if [ $prepare_only = no ]; then
+  wheels=$(readlink -f "$wheels")
+  ls "$wheels"/paramorph-*manylinux*.whl >/dev/null 2>&1 ||
+    { echo "prove-portable: no wheels in $wheels (run scripts/release.sh first, or pass --wheels)" >&2; exit 1; }
+fi
 [ "$(id -u)" -eq 0 ] || { echo "prove-portable: needs root (debootstrap, chroot)" >&2; exit 1; }
 command -v debootstrap >/dev/null || {
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends debootstrap >/dev/null
@@ -52,11 +61,13 @@ command -v debootstrap >/dev/null || {
 # What pip installs in the roots is fetched here (the host's PyPI access and
 # certificates) and installed there offline: pip itself, numpy, pytest.
 wheels_dir=$(mktemp -d /var/tmp/paramorph-wheels.XXXXXX)
-for python in 3.11 3.13; do
-  /usr/bin/python3 -m pip download -q --dest "$wheels_dir" --only-binary :all: --python-version "$python" \
-    --implementation cp --platform manylinux2014_x86_64 --platform manylinux_2_17_x86_64 pip numpy pytest
-done
-pip_wheel=$(ls "$wheels_dir"/pip-*.whl)
+if [ $prepare_only = no ]; then
+  for python in 3.11 3.13; do
+    /usr/bin/python3 -m pip download -q --dest "$wheels_dir" --only-binary :all: --python-version "$python" \
+      --implementation cp --platform manylinux2014_x86_64 --platform manylinux_2_17_x86_64 pip numpy pytest
+  done
+  pip_wheel=$(ls "$wheels_dir"/pip-*.whl)
+fi
 roots=${PARAMORPH_ROOTS:-/var/tmp/paramorph-roots}
 mirror=${PARAMORPH_DEBIAN_MIRROR:-http://deb.debian.org/debian}
 mkdir -p "$roots"
@@ -100,43 +111,67 @@ built_python() {
   echo "$tarball"
 }
 
-for suite in $suites; do
-  pristine="$roots/$suite"
+suite_python() {
+  case $1 in
+    bullseye) echo 3.11 ;;  # built from source (built_python)
+    bookworm) echo 3.11 ;;
+    *) echo 3.13 ;;
+  esac
+}
+
+# `python_root SUITE`: $roots/SUITE-python, SUITE's pristine minimal root
+# (debootstrap, cached) with the Python the check uses installed and no -dev
+# package, built once and cached.
+python_root() {
+  local suite=$1 python pristine=$roots/$1 ready=$roots/$1-python builder
+  python=$(suite_python "$suite")
+  [ -f "$ready/.paramorph-ready" ] && return 0
   if [ ! -x "$pristine/usr/bin/apt-get" ] || [ ! -f "$pristine/.paramorph-ready" ]; then
     say "debootstrap --variant=minbase from $mirror"
     rm -rf "$pristine"
     debootstrap --variant=minbase "$suite" "$pristine" "$mirror" > "$roots/$suite.log" 2>&1 ||
-      { tail -n 20 "$roots/$suite.log" >&2; exit 1; }
+      { tail -n 20 "$roots/$suite.log" >&2; return 1; }
     touch "$pristine/.paramorph-ready"
   fi
+  builder=$(mktemp -d /var/tmp/paramorph-root.XXXXXX)
+  cp -a "$pristine/." "$builder/"
+  cp /etc/resolv.conf "$builder/etc/resolv.conf"
+  local install
+  if [ "$suite" = bullseye ]; then
+    say "CPython $python built from source for Debian 11 (cached), no -dev packages in the root"
+    local python_tarball
+    python_tarball=$(built_python "$suite" "$python") || return 1
+    tar xzf "$python_tarball" -C "$builder"
+    install="apt-get install -y -qq --no-install-recommends libffi7 >/dev/null &&
+             ln -s /opt/cpython-$python/bin/python$python /usr/local/bin/python$python"
+  else
+    say "CPython $python from Debian, no -dev packages"
+    install="apt-get install -y -qq --no-install-recommends python$python python$python-venv >/dev/null"
+  fi
+  mount -t proc proc "$builder/proc"
+  chroot "$builder" /usr/bin/env -i PATH=/usr/local/bin:/usr/bin:/bin HOME=/root LANG=C.UTF-8 DEBIAN_FRONTEND=noninteractive \
+    /bin/bash -c "apt-get update -qq && $install && apt-get clean" ||
+    { umount -l "$builder/proc"; rm -rf "$builder"; say "could not set up CPython $python"; return 1; }
+  umount -l "$builder/proc"
+  touch "$builder/.paramorph-ready"
+  rm -rf "$ready" && mv "$builder" "$ready"
+}
+
+for suite in $suites; do
+  python_root "$suite" || exit 1
+  [ $prepare_only = no ] || continue
+  python=$(suite_python "$suite")
   scratch=$(mktemp -d /var/tmp/paramorph-root.XXXXXX)
-  cp -a "$pristine/." "$scratch/"
+  cp -a "$roots/$suite-python/." "$scratch/"
   mount -t proc proc "$scratch/proc" && mounted+=("$scratch/proc")
   mount --bind /dev "$scratch/dev" && mounted+=("$scratch/dev")
   cp /etc/resolv.conf "$scratch/etc/resolv.conf"
   in_root() { chroot "$scratch" /usr/bin/env -i PATH=/usr/local/bin:/usr/bin:/bin HOME=/root LANG=C.UTF-8 \
                 /bin/bash -c "$1"; }
 
-  case $suite in
-    bullseye) python=3.11 ;;  # built from source below
-    bookworm) python=3.11 ;;
-    *) python=3.13 ;;
-  esac
   tag=cp${python/./}
   wheel=$(ls "$wheels"/paramorph-*-"$tag"-"$tag"-manylinux*.whl 2>/dev/null | head -n 1)
   [ -n "$wheel" ] || { say "no $tag wheel in $wheels"; exit 1; }
-  if [ "$suite" = bullseye ]; then
-    say "CPython $python built from source for Debian 11 (cached), no -dev packages in the root"
-    python_tarball=$(built_python "$suite" "$python") || exit 1
-    tar xzf "$python_tarball" -C "$scratch"
-    in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-             libffi7 >/dev/null && ln -s /opt/cpython-$python/bin/python$python /usr/local/bin/python$python" ||
-      { say "could not set up CPython $python"; exit 1; }
-  else
-    say "CPython $python from Debian, no -dev packages"
-    in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-             python$python python$python-venv >/dev/null" || { say "could not install python$python"; exit 1; }
-  fi
   dev=$(in_root "dpkg-query -W -f='\${Package}\n' | grep -- '-dev\$' || true")
   [ -z "$dev" ] || { say "the root has -dev packages: $dev"; exit 1; }
 
@@ -198,6 +233,7 @@ EOF" || { say "the module failed without OpenCL"; exit 1; }
   rm -rf "$scratch"
   scratch=""
 done
+[ $prepare_only = no ] || { echo "prove-portable: roots with their Pythons ready in $roots: $suites"; exit 0; }
 echo "prove-portable: the wheels are portable to: $suites"
 
 if [ "$blender" = yes ]; then

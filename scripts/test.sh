@@ -14,6 +14,19 @@ cd "$(dirname "$0")/.."
 export PARAMORPH_BUILD_DIR=${PARAMORPH_BUILD_DIR:-build}
 stage() { echo "== $* [$(date -u +%T), $((SECONDS / 60)) min in]"; }
 scripts/install-deps.sh
+mkdir -p out
+# The Debian 11, 12 and 13 roots the wheels are proven in, with their
+# Pythons (debootstrap, and CPython 3.11 built for Debian 11; cached under
+# /var/tmp/paramorph-roots): mostly downloads, so from the start, beside all
+# the rest, at the lowest priority.
+background=()  # process groups an early exit stops
+trap 'for pid in "${background[@]}"; do kill -- -"$pid" 2>/dev/null || true; done' EXIT
+roots_pid=
+if [ "$(id -u)" -eq 0 ]; then
+  setsid nice -n 19 scripts/prove-portable.sh --prepare > out/portable-prepare.log 2>&1 &
+  roots_pid=$!
+  background+=("$roots_pid")
+fi
 scripts/build.sh
 
 # Beside the tests, at nice 19 and each in its own process group (so an
@@ -22,13 +35,12 @@ scripts/build.sh
 # dependencies, about 15 minutes of two cores the first time on a machine and
 # then kept under ~/.cache/paramorph/manylinux, then the modules, which
 # ccache shares with earlier builds), and the PyPI bpy 4.5 and 5.2 venvs.
-mkdir -p out
 rm -rf out/manylinux-wheels
 setsid nice -n 19 scripts/manylinux/build.sh out/manylinux-wheels 3.11 3.13 > out/manylinux-build.log 2>&1 &
 modules_pid=$!
 setsid bash -c 'scripts/bpy-venv.sh && scripts/bpy-venv.sh 5.2' > out/bpy-venv.log 2>&1 &
 bpy_pid=$!
-trap 'kill -- -"$modules_pid" -"$bpy_pid" 2>/dev/null || true' EXIT
+background+=("$modules_pid" "$bpy_pid")
 
 # `together NAME CMD... -- NAME CMD...`: the commands at once, each into
 # out/NAME.log; each log's last lines (a failing one whole) once all end.
@@ -99,7 +111,10 @@ if [ -x .venv-bpy/bin/python ] && [ -x .venv-bpy52/bin/python ]; then
   stage "Blender 4.5 and 5.2 tests (pytest with PyPI bpy), the wheels in Debian 11, 12 and 13 roots"
   portable=(echo "skipped: scripts/prove-portable.sh needs root (debootstrap, chroot)")
   # --no-blender: the install tests run in the suites beside it.
-  [ "$(id -u)" -ne 0 ] || portable=(scripts/prove-portable.sh --tests quick --no-blender)
+  if [ -n "$roots_pid" ]; then
+    wait "$roots_pid" || { cat out/portable-prepare.log; echo "preparing the Debian roots failed"; exit 1; }
+    portable=(scripts/prove-portable.sh --tests quick --no-blender)
+  fi
   together \
     blender-4.5 env PARAMORPH_REQUIRE_RELEASE=1 .venv-bpy/bin/python -m pytest tests/blender -q -p no:cacheprovider -- \
     blender-5.2 env PARAMORPH_BUILD_DIR=build-release-cp313 PARAMORPH_REQUIRE_RELEASE=1 \
