@@ -134,29 +134,31 @@ constexpr double kFarWeight = 2.0;
 constexpr double kFarPower = 2.0;
 
 /// Weights (1 + kFarWeight (d / mean d)^kFarPower) for samples at distances
-/// d, scaled so the side's total weight stays what it was (`share`: each
-/// sample's base weight, per `per` samples).
-VectorXd far_emphasis(const VectorXd& distance, const VectorXd& share, Index per) {
+/// d, scaled so the side's total weight stays what it was (`weight`: each
+/// sample's base weight).
+VectorXd far_emphasis(const VectorXd& distance, const VectorXd& weight) {
   const Index n = Index(distance.size());
-  double base = 0.0, weighted_sum = 0.0, mean = 0.0;
-  for (Index k = 0; k < n; ++k) {
-    base += share(k / per);
-    mean += share(k / per) * distance(k);
-  }
-  mean /= std::max(base, 1e-300);
+  const double base = weight.sum();
+  const double mean = weight.dot(distance) / std::max(base, 1e-300);
   VectorXd out(n);
-  for (Index k = 0; k < n; ++k) {
+  for (Index k = 0; k < n; ++k)
     out(k) = mean > 0 ? 1.0 + kFarWeight * std::pow(distance(k) / mean, kFarPower) : 1.0;
-    weighted_sum += share(k / per) * out(k);
-  }
+  const double weighted_sum = weight.dot(out);
   return weighted_sum > 0 ? VectorXd(out * (base / weighted_sum)) : out;
 }
+
+/// A face larger than this many times the median is sampled more finely,
+/// as finely as a median face, up to kMostSteps per edge: a triangle drawn
+/// out over a horn is drawn onto it by its whole span.
+constexpr double kLargeFace = 4.0;
+constexpr int kMostSteps = 16;
 
 /// B's vertices the fit draws A to: all of them up to this many, else every
 /// k-th (the queries onto A's mesh are rebuilt each round).
 constexpr Index kMaxTargetSamples = 60000;
 
-/// Halvings of a round's step while a face would turn over; then the fit ends.
+/// Halvings of a vertex's step while a face around it would turn over; then
+/// it stays where it is for the round.
 constexpr int kHalvings = 12;
 
 /// The fit in B's own frame (see fit_to_surface below).
@@ -188,9 +190,13 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   const Index per_face = Index(grid.size());
   const MatrixX2i edges = TriMesh(X, F).edges();
 
-  // One round's distances: A's face samples to B, B's samples to A.
+  // One round's distances: A's face samples to B (the grid on every face,
+  // then the finer grids of the large faces), B's samples to A.
+  std::vector<std::vector<std::array<double, 3>>> fine_grids(kMostSteps + 1);
   struct Measured {
     ClosestPoints on_target;  // of A's samples
+    std::vector<Index> sample_face;
+    std::vector<std::array<double, 3>> sample_bary;
     ClosestPoints on_source;  // of B's samples
     double distance = 0.0;
   };
@@ -198,14 +204,61 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   bool have_hint = false;
   auto measure = [&](const MatrixX3d& P) {
     Measured m;
-    MatrixX3d samples(F.rows() * per_face, 3);
+    VectorXd area(F.rows());
+    for (Index f = 0; f < Index(F.rows()); ++f) area(f) = face_normal(P, F, f).norm();
+    std::vector<double> sorted(area.data(), area.data() + area.size());
+    std::nth_element(sorted.begin(), sorted.begin() + Index(sorted.size()) / 2, sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const int base_steps = grid_steps(Index(F.rows()));
     for (Index f = 0; f < Index(F.rows()); ++f)
-      for (Index s = 0; s < per_face; ++s)
-        samples.row(f * per_face + s) =
-            grid[s][0] * P.row(F(f, 0)) + grid[s][1] * P.row(F(f, 1)) + grid[s][2] * P.row(F(f, 2));
-    m.on_target = target_tree.query(samples, have_hint ? &hint : nullptr);
-    hint = m.on_target;
+      for (Index s = 0; s < per_face; ++s) {
+        m.sample_face.push_back(f);
+        m.sample_bary.push_back(grid[s]);
+      }
+    // The largest first, within a budget of as many as the grid's samples
+    // (a mesh of uneven density has many faces over the mark; the ones drawn
+    // over a horn are far larger still).
+    std::vector<Index> large;
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      if (area(f) > kLargeFace * median) large.push_back(f);
+    std::sort(large.begin(), large.end(), [&](Index a, Index b) { return area(a) > area(b); });
+    Index budget = F.rows() * per_face;
+    for (const Index f : large) {
+      const int steps = std::min(kMostSteps, int(std::ceil(base_steps * std::sqrt(area(f) / median))));
+      if (fine_grids[steps].empty()) fine_grids[steps] = barycentric_grid(steps);
+      budget -= Index(fine_grids[steps].size());
+      if (budget < 0) break;
+      for (const auto& bary : fine_grids[steps]) {
+        m.sample_face.push_back(f);
+        m.sample_bary.push_back(bary);
+      }
+    }
+    MatrixX3d samples(m.sample_face.size(), 3);
+    for (std::size_t k = 0; k < m.sample_face.size(); ++k) {
+      const Index f = m.sample_face[k];
+      const auto& b = m.sample_bary[k];
+      samples.row(Index(k)) = b[0] * P.row(F(f, 0)) + b[1] * P.row(F(f, 1)) + b[2] * P.row(F(f, 2));
+    }
+    // The previous round's answers bound the search for the grid's samples
+    // (the same points, moved a little); the large faces' are searched afresh.
+    const Index on_grid = F.rows() * per_face;
+    ClosestPoints grid_part = target_tree.query(samples.topRows(on_grid), have_hint ? &hint : nullptr);
+    hint = grid_part;
     have_hint = true;
+    const Index fine = Index(samples.rows()) - on_grid;
+    if (fine == 0) {
+      m.on_target = std::move(grid_part);
+    } else {
+      const ClosestPoints fine_part = target_tree.query(samples.bottomRows(fine));
+      m.on_target.face.resize(samples.rows());
+      m.on_target.bary.resize(samples.rows(), 3);
+      m.on_target.points.resize(samples.rows(), 3);
+      m.on_target.distance.resize(samples.rows());
+      m.on_target.face << grid_part.face, fine_part.face;
+      m.on_target.bary << grid_part.bary, fine_part.bary;
+      m.on_target.points << grid_part.points, fine_part.points;
+      m.on_target.distance << grid_part.distance, fine_part.distance;
+    }
     m.on_source = ClosestPointTree(P, F).query(target_points);
     m.distance = std::max(m.on_target.distance.maxCoeff(), m.on_source.distance.maxCoeff());
     return m;
@@ -236,16 +289,19 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     // the largest distance rather than the mean: the horn pulls the source's
     // triangles out, then the stretched triangles are drawn onto it.
     const bool source_farther = now.on_target.distance.maxCoeff() >= now.on_source.distance.maxCoeff();
-    const VectorXd emphasis_a = unreached && source_farther
-                                    ? far_emphasis(now.on_target.distance, face_share, per_face)
-                                    : VectorXd::Ones(now.on_target.distance.size());
-    const VectorXd emphasis_b = unreached && !source_farther
-                                    ? far_emphasis(now.on_source.distance, target_weights, 1)
-                                    : VectorXd::Ones(now.on_source.distance.size());
-    for (Index f = 0; f < Index(F.rows()); ++f)
-      for (Index s = 0; s < per_face; ++s)
-        system.add_point(F, f, grid[s], now.on_target.points.row(f * per_face + s),
-                         face_share(f) / double(per_face) * emphasis_a(f * per_face + s));
+    // Each face's share of A's area, split over its samples.
+    std::vector<int> samples_of(F.rows(), 0);
+    for (const Index f : now.sample_face) ++samples_of[f];
+    VectorXd sample_weight(now.sample_face.size());
+    for (std::size_t k = 0; k < now.sample_face.size(); ++k)
+      sample_weight(Index(k)) = face_share(now.sample_face[k]) / double(samples_of[now.sample_face[k]]);
+    const VectorXd emphasis_a = unreached && source_farther ? far_emphasis(now.on_target.distance, sample_weight)
+                                                            : VectorXd::Ones(now.on_target.distance.size());
+    const VectorXd emphasis_b = unreached && !source_farther ? far_emphasis(now.on_source.distance, target_weights)
+                                                             : VectorXd::Ones(now.on_source.distance.size());
+    for (std::size_t k = 0; k < now.sample_face.size(); ++k)
+      system.add_point(F, now.sample_face[k], now.sample_bary[k], now.on_target.points.row(Index(k)),
+                       sample_weight(Index(k)) * emphasis_a(Index(k)));
     // A's normal at each closest point, blended from its vertex normals: the
     // same whichever face a point on an edge or corner was found in.
     const MatrixX3d source_normals = area_weighted_vertex_normals(current, F);
@@ -278,17 +334,23 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     for (Index v = 0; v < Index(X.rows()); ++v)
       if (free_index[v] >= 0) proposed.row(v) = solved.row(free_index[v]);
 
-    // Halve the step until no face turns over.
-    double step = 1.0;
+    // Halve the step of the vertices around a face that would turn over,
+    // only there, so one tight spot does not slow the whole mesh; after
+    // kHalvings they stay where they are this round (a round in which no
+    // vertex can move ends the fit).
+    VectorXd step = VectorXd::Ones(X.rows());
     MatrixX3d next;
-    bool turned = true;
-    for (int halving = 0; halving < kHalvings && turned; ++halving, step *= 0.5) {
-      next = current + step * (proposed - current);
-      turned = false;
-      for (Index f = 0; f < Index(F.rows()) && !turned; ++f)
-        turned = before_normals.row(f).squaredNorm() > 0 && face_normal(next, F, f).dot(before_normals.row(f)) <= 0;
+    for (int halving = 0;; ++halving) {
+      next = current + step.asDiagonal() * (proposed - current);
+      std::vector<Index> turned_faces;
+      for (Index f = 0; f < Index(F.rows()); ++f)
+        if (before_normals.row(f).squaredNorm() > 0 && face_normal(next, F, f).dot(before_normals.row(f)) <= 0)
+          turned_faces.push_back(f);
+      if (turned_faces.empty()) break;
+      for (const Index f : turned_faces)
+        for (int k = 0; k < 3; ++k) step(F(f, k)) = halving < kHalvings ? 0.5 * step(F(f, k)) : 0.0;
     }
-    if (turned) break;
+    if (!(step.maxCoeff() > 0)) break;
     current = next;
     ++out.rounds;
     now = measure(current);

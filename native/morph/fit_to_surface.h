@@ -6,7 +6,11 @@
 // symmetric ICP) move the vertices so that the two surfaces lie close both
 // ways:
 //   1. samples of A's faces (corners and points inside) are drawn to their
-//      closest points on B, weighted by their face's share of A's area;
+//      closest points on B, weighted by their face's share of A's area; a
+//      face over 4 times the median area (one drawn out over a horn) is
+//      sampled as finely as a median face, the largest first within a
+//      budget of as many samples again, so its whole span is drawn onto B
+//      and its distance is measured, not only its corners';
 //   2. B's vertices are drawn to their closest points on A (held to the face
 //      and barycentric point found), weighted by their share of B's area,
 //      where that face and B's normal there agree (never across a thin gap
@@ -19,9 +23,10 @@
 //      edges is penalised with a weight that falls each round (stiff first,
 //      so large moves stay coherent; soft last, for the fine fit);
 //   5. the held vertices (pins, matched feature tips) stay exactly where they
-//      are; a step that would turn a face over (its normal against the one
-//      before the step) is halved, and a round that cannot step without that
-//      ends the fit.
+//      are; where a step would turn a face over (its normal against the one
+//      before the step) the step of that face's corners is halved, only
+//      there (one tight spot does not hold the whole mesh back), and after
+//      12 halvings they stay where they are for the round.
 // The round with the smallest sampled two-sided distance is returned, so the
 // fit never ends farther from B than it started. Every weight is a share of
 // an area: a turn, scale or shift of both meshes gives the same answer, moved
