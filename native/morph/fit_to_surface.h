@@ -43,7 +43,9 @@ struct FitToSurfaceOptions {
   int rounds = 150;
   /// Weight of the displacement's smoothness against the distance terms in
   /// the first round; each later round multiplies it by stiffness_decay.
-  double stiffness = 0.3;
+  /// 1 rather than 0.3: a part drawn out to a horn moves as a whole for
+  /// longer (the cat onto the horned cow 3.6 -> 1.8 %).
+  double stiffness = 1.0;
   double stiffness_decay = 0.95;
 };
 

@@ -37,7 +37,7 @@ void bind_fit_to_surface(py::module_& m) {
         return run_without_gil(bridge, [&] { return morph::fit_to_surface(x, f, vb, fb, h, options, bridge.get()); });
       },
       py::arg("X"), py::arg("F"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("held") = py::none(),
-      py::arg("rounds") = 150, py::arg("stiffness") = 0.3, py::arg("stiffness_decay") = 0.95,
+      py::arg("rounds") = 150, py::arg("stiffness") = 1.0, py::arg("stiffness_decay") = 0.95,
       py::arg("progress") = py::none(),
       R"doc(Moves a mesh of fixed connectivity lying on a target surface so the two lie close both ways
 (Keep Source's Topology: A's vertices at their corresponding points on B, then fitted).
