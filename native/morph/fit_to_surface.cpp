@@ -191,12 +191,14 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   const MatrixX2i edges = TriMesh(X, F).edges();
 
   // One round's distances: A's face samples to B (the grid on every face,
-  // then the finer grids of the large faces), B's samples to A.
+  // sample k at face k / per_face, then the finer grids of the large faces),
+  // B's samples to A.
+  const Index on_grid = F.rows() * per_face;
   std::vector<std::vector<std::array<double, 3>>> fine_grids(kMostSteps + 1);
   struct Measured {
     ClosestPoints on_target;  // of A's samples
-    std::vector<Index> sample_face;
-    std::vector<std::array<double, 3>> sample_bary;
+    std::vector<Index> fine_face;  // the large faces' samples, after the grid's
+    std::vector<std::array<double, 3>> fine_bary;
     ClosestPoints on_source;  // of B's samples
     double distance = 0.0;
   };
@@ -210,11 +212,6 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     std::nth_element(sorted.begin(), sorted.begin() + Index(sorted.size()) / 2, sorted.end());
     const double median = sorted[sorted.size() / 2];
     const int base_steps = grid_steps(Index(F.rows()));
-    for (Index f = 0; f < Index(F.rows()); ++f)
-      for (Index s = 0; s < per_face; ++s) {
-        m.sample_face.push_back(f);
-        m.sample_bary.push_back(grid[s]);
-      }
     // The largest first, within a budget of as many as the grid's samples
     // (a mesh of uneven density has many faces over the mark; the ones drawn
     // over a horn are far larger still).
@@ -222,30 +219,29 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     for (Index f = 0; f < Index(F.rows()); ++f)
       if (area(f) > kLargeFace * median) large.push_back(f);
     std::sort(large.begin(), large.end(), [&](Index a, Index b) { return area(a) > area(b); });
-    Index budget = F.rows() * per_face;
+    Index budget = on_grid;
     for (const Index f : large) {
       const int steps = std::min(kMostSteps, int(std::ceil(base_steps * std::sqrt(area(f) / median))));
       if (fine_grids[steps].empty()) fine_grids[steps] = barycentric_grid(steps);
       budget -= Index(fine_grids[steps].size());
       if (budget < 0) break;
       for (const auto& bary : fine_grids[steps]) {
-        m.sample_face.push_back(f);
-        m.sample_bary.push_back(bary);
+        m.fine_face.push_back(f);
+        m.fine_bary.push_back(bary);
       }
     }
-    MatrixX3d samples(m.sample_face.size(), 3);
-    for (std::size_t k = 0; k < m.sample_face.size(); ++k) {
-      const Index f = m.sample_face[k];
-      const auto& b = m.sample_bary[k];
-      samples.row(Index(k)) = b[0] * P.row(F(f, 0)) + b[1] * P.row(F(f, 1)) + b[2] * P.row(F(f, 2));
-    }
+    const Index fine = Index(m.fine_face.size());
+    auto point = [&](Index f, const std::array<double, 3>& b) -> Eigen::RowVector3d {
+      return b[0] * P.row(F(f, 0)) + b[1] * P.row(F(f, 1)) + b[2] * P.row(F(f, 2));
+    };
+    MatrixX3d samples(on_grid + fine, 3);
+    for (Index k = 0; k < on_grid; ++k) samples.row(k) = point(k / per_face, grid[k % per_face]);
+    for (Index k = 0; k < fine; ++k) samples.row(on_grid + k) = point(m.fine_face[k], m.fine_bary[k]);
     // The previous round's answers bound the search for the grid's samples
     // (the same points, moved a little); the large faces' are searched afresh.
-    const Index on_grid = F.rows() * per_face;
     ClosestPoints grid_part = target_tree.query(samples.topRows(on_grid), have_hint ? &hint : nullptr);
     hint = grid_part;
     have_hint = true;
-    const Index fine = Index(samples.rows()) - on_grid;
     if (fine == 0) {
       m.on_target = std::move(grid_part);
     } else {
@@ -290,18 +286,20 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     // triangles out, then the stretched triangles are drawn onto it.
     const bool source_farther = now.on_target.distance.maxCoeff() >= now.on_source.distance.maxCoeff();
     // Each face's share of A's area, split over its samples.
-    std::vector<int> samples_of(F.rows(), 0);
-    for (const Index f : now.sample_face) ++samples_of[f];
-    VectorXd sample_weight(now.sample_face.size());
-    for (std::size_t k = 0; k < now.sample_face.size(); ++k)
-      sample_weight(Index(k)) = face_share(now.sample_face[k]) / double(samples_of[now.sample_face[k]]);
+    std::vector<int> samples_of(F.rows(), int(per_face));
+    for (const Index f : now.fine_face) ++samples_of[f];
+    const Index fine = Index(now.fine_face.size());
+    auto face_of = [&](Index k) { return k < on_grid ? k / per_face : now.fine_face[k - on_grid]; };
+    VectorXd sample_weight(on_grid + fine);
+    for (Index k = 0; k < on_grid + fine; ++k)
+      sample_weight(k) = face_share(face_of(k)) / double(samples_of[face_of(k)]);
     const VectorXd emphasis_a = unreached && source_farther ? far_emphasis(now.on_target.distance, sample_weight)
                                                             : VectorXd::Ones(now.on_target.distance.size());
     const VectorXd emphasis_b = unreached && !source_farther ? far_emphasis(now.on_source.distance, target_weights)
                                                              : VectorXd::Ones(now.on_source.distance.size());
-    for (std::size_t k = 0; k < now.sample_face.size(); ++k)
-      system.add_point(F, now.sample_face[k], now.sample_bary[k], now.on_target.points.row(Index(k)),
-                       sample_weight(Index(k)) * emphasis_a(Index(k)));
+    for (Index k = 0; k < on_grid + fine; ++k)
+      system.add_point(F, face_of(k), k < on_grid ? grid[k % per_face] : now.fine_bary[k - on_grid],
+                       now.on_target.points.row(k), sample_weight(k) * emphasis_a(k));
     // A's normal at each closest point, blended from its vertex normals: the
     // same whichever face a point on an edge or corner was found in.
     const MatrixX3d source_normals = area_weighted_vertex_normals(current, F);
