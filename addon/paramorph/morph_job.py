@@ -101,7 +101,8 @@ def separate_parts(V_in, F_in, fixed):
 
 
 def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpolation="ARAP",
-                           target_transform=None, to_local=None, keep_topology=False, repair=False, **options):
+                           target_transform=None, to_local=None, keep_topology=False, repair=False, target_turn=None,
+                           **options):
     """native.morph(VA, FA, VB, FB, **options), then `in_betweens` shapes: of
     the merged mesh, or with keep_topology of A's own mesh (the target sampled
     at A's vertices through the correspondence, then fitted to B both ways by
@@ -112,7 +113,10 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
     inverse of its transform's linear part), or None. repair: mend both
     meshes first (repair_mesh; pins and pairs are carried onto the mended
     meshes). progress(fraction, stage) -> False cancels (native.Cancelled),
-    also between in-betweens. The source's separate parts that repair
+    also between in-betweens. target_turn: 3 x 3, the turn of the target
+    as placed (its object's rotation), or None: a kept topology's distance
+    is reported as a share of the diagonal of the target's own box, the
+    same however the target is turned. The source's separate parts that repair
     leaves out of the morph ride along the body through every key
     (outcome.parts)."""
     VA_in, FA_in = np.asarray(VA, dtype=np.float64), FA
@@ -138,7 +142,8 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
         outcome.keep_topology = True
         outcome.distance = native.surface_distance(  # seconds on 100k faces: reports, so Esc acts
             target, faces, VB, FB, progress=lambda f, stage: progress(share, "checking the end shape"))
-        outcome.target_diagonal = float(np.linalg.norm(np.ptp(np.asarray(VB, dtype=np.float64), axis=0)))
+        own = np.asarray(VB, dtype=np.float64) @ (np.eye(3) if target_turn is None else np.asarray(target_turn))
+        outcome.target_diagonal = float(np.linalg.norm(np.ptp(own, axis=0)))
     if target_transform is not None:
         M = np.asarray(target_transform, dtype=np.float64)
         target = target @ M[:3, :3].T + M[:3, 3]

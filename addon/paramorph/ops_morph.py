@@ -41,6 +41,13 @@ def linear_part(obj):
     return np.array(obj.matrix_world, dtype=np.float64)[:3, :3]
 
 
+def turn_part(obj):
+    """The rotation of an object's transform, without its scale (the polar
+    factor of linear_part; a mirroring scale stays in it)."""
+    u, _, vt = np.linalg.svd(linear_part(obj))
+    return u @ vt
+
+
 as_placed = bridge.as_placed  # a target scaled x9 and turned 45 deg is morphed to as it looks
 
 
@@ -534,6 +541,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         if pairs is not None:
             options["pairs"] = pairs
         options["to_local"] = np.linalg.inv(linear_part(source))
+        options["target_turn"] = turn_part(target)  # its distance reported on its own box, however turned
         if self.placement == "TARGET":  # the offset between the two origins, in the scene
             offset = np.eye(4)
             offset[:3, 3] = np.array(target.matrix_world.translation) - np.array(source.matrix_world.translation)

@@ -149,6 +149,27 @@ def test_a_target_finer_than_the_source_is_warned_about_not_refused(capfd):
     assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Octopus 33%", "Octopus 67%", "Octopus"]
 
 
+def test_the_reported_distance_is_the_same_however_the_scene_is_turned():
+    # The share is of the target's own box (target_turn: its object's
+    # rotation), not of its turned copy's, which grows or shrinks with the
+    # turn while the distance itself stays (the whole scene turned alike).
+    from paramorph import morph_job
+
+    source = make_samples.build_octopus(name="Five", subdivisions=2, limbs=5)
+    target = make_samples.build_octopus(name="Seven", subdivisions=4, limbs=7)
+    VA, FA = bridge.mesh_arrays(source.data)[:2]
+    VB, FB = bridge.mesh_arrays(target.data)[:2]
+    turn = np.array(Quaternion((1.0, 2.0, 0.5), 0.9).to_matrix(), dtype=np.float64)
+    turn = np.linalg.svd(turn)[0] @ np.linalg.svd(turn)[2]  # orthonormal to the last bit
+    outcomes = [morph_job.morph_with_in_betweens(VA @ R.T, FA, VB @ R.T, FB, progress=lambda f, stage: True,
+                                                 keep_topology=True, target_turn=R)
+                for R in (np.eye(3), turn)]
+    assert outcomes[1].target_diagonal == pytest.approx(outcomes[0].target_diagonal, rel=1e-9)
+    assert outcomes[1].target_diagonal != pytest.approx(np.linalg.norm(np.ptp(VB @ turn.T, axis=0)), rel=1e-3)
+    distances = [o.distance.hausdorff for o in outcomes]
+    assert distances[0] > 0 and distances[1] == pytest.approx(distances[0], rel=1e-6), distances
+
+
 def test_automatic_topology_follows_what_hangs_on_the_source():
     bare = make_samples.build_blob(name="Bare", subdivisions=3)
     target = make_samples.build_octopus(name="Octopus", subdivisions=3, limbs=4)
