@@ -271,8 +271,13 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   SupernodalCholesky<SparseMatrix> solver;
   bool analysed = false;
   double stiffness = options.stiffness;
-  for (int round = 0; round < options.rounds; ++round, stiffness *= options.stiffness_decay) {
-    if (progress) progress->report(double(round) / options.rounds, "fitting the kept topology to the target");
+  int last_gain = 0;  // the last round that came closer than all before
+  for (int round = 0;; ++round, stiffness *= options.stiffness_decay) {
+    const bool settled = options.patience == 0 || round - last_gain > options.patience;
+    if (round >= 2 * options.rounds || (round >= options.rounds && settled)) break;
+    if (progress)
+      progress->report(std::min(0.99, double(round) / std::max(options.rounds, 1)),
+                       "fitting the kept topology to the target");
     RoundSystem system(current, free_index);
     MatrixX3d before_normals(F.rows(), 3);  // also what the step may not turn over
     for (Index f = 0; f < Index(F.rows()); ++f) before_normals.row(f) = face_normal(current, F, f);
@@ -355,6 +360,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     if (now.distance < out.distance_after) {
       out.distance_after = now.distance;
       out.positions = current;
+      last_gain = round + 1;
     }
   }
   if (progress) progress->report(1.0, "fitting the kept topology to the target");
@@ -369,6 +375,8 @@ FitToSurface fit_to_surface(const MatrixX3d& X, const MatrixX3i& F, const Matrix
   validate_arrays(VB, FB);
   if (F.rows() == 0 || FB.rows() == 0) throw InvalidInputError("fit_to_surface needs faces on both meshes");
   if (options.rounds < 0) throw InvalidInputError("rounds must be >= 0, got " + std::to_string(options.rounds));
+  if (options.patience < 0)
+    throw InvalidInputError("patience must be >= 0, got " + std::to_string(options.patience));
   if (!std::isfinite(options.stiffness) || options.stiffness < 0)
     throw InvalidInputError("stiffness must be finite and >= 0, got " + std::to_string(options.stiffness));
   if (!(options.stiffness_decay > 0 && options.stiffness_decay <= 1))

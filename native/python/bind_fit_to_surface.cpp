@@ -24,20 +24,21 @@ void bind_fit_to_surface(py::module_& m) {
   m.def(
       "fit_to_surface",
       [](const py::object& X, const py::object& F, const py::object& VB, const py::object& FB, const py::object& held,
-         int rounds, double stiffness, double stiffness_decay, py::object progress) {
+         int rounds, int patience, double stiffness, double stiffness_decay, py::object progress) {
         const MatrixX3d x = to_vertices(X, "X"), vb = to_vertices(VB, "VB");
         const MatrixX3i f = to_faces(F, "F"), fb = to_faces(FB, "FB");
         const std::vector<Index> kept = to_indices(held, "held");
         const VectorXi h = Eigen::Map<const VectorXi>(kept.data(), Index(kept.size()));
         morph::FitToSurfaceOptions options;
         options.rounds = rounds;
+        options.patience = patience;
         options.stiffness = stiffness;
         options.stiffness_decay = stiffness_decay;
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return morph::fit_to_surface(x, f, vb, fb, h, options, bridge.get()); });
       },
       py::arg("X"), py::arg("F"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("held") = py::none(),
-      py::arg("rounds") = 150, py::arg("stiffness") = 1.0, py::arg("stiffness_decay") = 0.95,
+      py::arg("rounds") = 150, py::arg("patience") = 20, py::arg("stiffness") = 1.0, py::arg("stiffness_decay") = 0.95,
       py::arg("progress") = py::none(),
       R"doc(Moves a mesh of fixed connectivity lying on a target surface so the two lie close both ways
 (Keep Source's Topology: A's vertices at their corresponding points on B, then fitted).
@@ -45,7 +46,8 @@ void bind_fit_to_surface(py::module_& m) {
 X, F: the mesh as it lies on the target; VB, FB: the target. Each round draws
 samples of X's faces to their closest points on B and B's vertices to their
 closest points on X (where the normals agree), with the change of each edge
-penalised by `stiffness` (times `stiffness_decay` each round). held: vertices
+penalised by `stiffness` (times `stiffness_decay` each round); after `rounds`,
+rounds go on while the last `patience` came closer, up to 2 x rounds. held: vertices
 that stay exactly where they are (pins, matched tips). A step that would turn
 a face over is halved; one that cannot ends the fit. Returns FitToSurface with
 the round closest to B both ways (never farther than X). Turning, scaling or

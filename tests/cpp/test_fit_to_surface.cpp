@@ -116,6 +116,22 @@ TEST(FitToSurface, NoRoundsOrAllHeldLeavesTheMeshAsItWas) {
   EXPECT_EQ(held.positions, c.X);
 }
 
+TEST(FitToSurface, GoesOnPastTheScheduleWhileItComesCloser) {
+  // A schedule of 10 rounds ends short of the horn: with patience the fit
+  // goes on (up to twice the schedule) and ends closer; without, it stops.
+  const Case c = horned_case();
+  morph::FitToSurfaceOptions short_schedule;
+  short_schedule.rounds = 10;
+  short_schedule.patience = 0;
+  const morph::FitToSurface plain = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), short_schedule);
+  short_schedule.patience = 5;
+  const morph::FitToSurface patient = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), short_schedule);
+  EXPECT_LE(plain.rounds, 10);
+  EXPECT_GT(patient.rounds, 10);
+  EXPECT_LE(patient.rounds, 20);
+  EXPECT_LT(patient.distance_after, plain.distance_after);
+}
+
 TEST(FitToSurface, RefusesBadInput) {
   const Case c = horned_case();
   auto with = [](auto set) {
@@ -125,6 +141,8 @@ TEST(FitToSurface, RefusesBadInput) {
   };
   const VectorXi none;
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.rounds = -1; })),
+               InvalidInputError);
+  EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.patience = -1; })),
                InvalidInputError);
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.stiffness = NAN; })),
                InvalidInputError);

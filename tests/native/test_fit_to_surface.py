@@ -55,7 +55,7 @@ def test_progress_reports_and_cancel_stops(kept):
 
 
 @pytest.mark.parametrize("change", [
-    {"rounds": -1}, {"stiffness": float("nan")}, {"stiffness": -1.0}, {"stiffness_decay": 0.0},
+    {"rounds": -1}, {"patience": -1}, {"stiffness": float("nan")}, {"stiffness": -1.0}, {"stiffness_decay": 0.0},
     {"stiffness_decay": 1.5}, {"held": np.array([10 ** 6])}, {"held": np.array([0.5])},
 ])
 def test_bad_options_are_refused(kept, change):
