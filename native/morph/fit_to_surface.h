@@ -30,9 +30,8 @@
 // After the schedule's rounds, softer rounds go on while they still come
 // closer (up to twice as many). The round with the smallest sampled
 // two-sided distance is returned, so the fit never ends farther from B than
-// it started. Every weight is a share of
-// an area: a turn, scale or shift of both meshes gives the same answer, moved
-// with them.
+// it started. Every weight is a share of an area: a turn, scale or shift of
+// both meshes gives the same answer, moved with them.
 #pragma once
 
 #include "common/progress.h"
@@ -67,9 +66,9 @@ struct FitToSurface {
 
 /// X, F: A's mesh as it lies on B (#V by 3, #F by 3); VB, FB: the target B.
 /// held: vertices of A that do not move. InvalidInputError for malformed
-/// arrays, a held index out of range, rounds < 0, patience < 0, a negative or non-finite
-/// stiffness or a decay outside (0, 1]. progress: 0..1 over the rounds;
-/// cancel throws Cancelled.
+/// arrays, a held index out of range, rounds < 0, patience < 0, a negative
+/// or non-finite stiffness or a decay outside (0, 1]. progress: 0..1 over
+/// the rounds; cancel throws Cancelled.
 FitToSurface fit_to_surface(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,
                             const VectorXi& held, const FitToSurfaceOptions& options = {},
                             Progress* progress = nullptr);
