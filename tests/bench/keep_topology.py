@@ -17,11 +17,14 @@ With --placements, each pair again with the source placed as a user's scene
 might have it (turned about the up axis beside the target, facing away and
 twice the size, tilted), and the whole scene turned, scaled and moved (the
 distance then a share of the target's own diagonal): the correspondence may
-differ with the source's placement, never with the whole scene's.
+differ with the source's placement, never with the whole scene's. Where
+landmarks.json has both models, how far each source landmark lands from the
+target's (% of the diagonal, before the fit: the correspondence's own).
 Targets (issue 31): <= 3 % for a >= 2.5k-vertex source onto a >= 50k-face
 target of another animal, <= 4 % for a ~500-vertex head; turned at
 t = 1/2 <= 0.1 %."""
 import argparse
+import json
 import time
 
 import numpy as np
@@ -91,6 +94,22 @@ def placements(size):
             ("whole scene turned -120 deg, x7, moved", same, (turn([0, 1, 1], -120), 7.0, np.array([-30.0, 4, 2])))]
 
 
+def landmark_misses(a, b, sampled, VB, diagonal):
+    """Where the source's landmarks land through the correspondence, as a
+    share of the target's diagonal from the target's own (% each), when
+    landmarks.json has both models; else None. B's own vertices keep their
+    indices in its subdivided copy."""
+    path = MODELS / "landmarks.json"
+    if not path.exists():
+        return None
+    marks = json.loads(path.read_text())
+    if f"{a}.obj" not in marks or f"{b}.obj" not in marks:
+        return None
+    of_a, of_b = marks[f"{a}.obj"], marks[f"{b}.obj"]
+    return {name: round(float(100 * np.linalg.norm(sampled[of_a[name]] - VB[of_b[name]]) / diagonal), 1)
+            for name in of_a if name in of_b}
+
+
 def keep(VA, FA, VB, FB, record):
     """Morph, then the fit; adds seconds and figures to record."""
     start = time.perf_counter()
@@ -129,6 +148,7 @@ def main():
         record["hausdorff_after"] = share(pm.surface_distance(end, FA, VB, FB), VB)
         record["turned_half_way_before"] = turned_half_way(VA, FA, sampled)
         record["turned_half_way_after"] = turned_half_way(VA, FA, end)
+        record["landmark_miss_percent"] = landmark_misses(a, b, sampled, VB, np.linalg.norm(np.ptp(VB, axis=0)))
         emit(record)
         if not args.placements:
             continue
@@ -140,6 +160,7 @@ def main():
             for when, X in (("before", sampled), ("after", end)):
                 placed[f"hausdorff_{when}"] = round(float(pm.surface_distance(X, FA, B, FB).hausdorff / (s * diagonal)), 4)
                 placed[f"turned_half_way_{when}"] = turned_half_way(A, FA, X)
+            placed["landmark_miss_percent"] = landmark_misses(a, b, sampled, B, s * diagonal)
             emit(placed)
 
 
