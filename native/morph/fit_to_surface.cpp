@@ -196,6 +196,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   const Index on_grid = F.rows() * per_face;
   std::vector<std::vector<std::array<double, 3>>> fine_grids(kMostSteps + 1);
   struct Measured {
+    MatrixX3d normals;        // A's face normals, as long as twice the face's area
     ClosestPoints on_target;  // of A's samples
     std::vector<Index> fine_face;  // the large faces' samples, after the grid's
     std::vector<std::array<double, 3>> fine_bary;
@@ -206,8 +207,9 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   bool have_hint = false;
   auto measure = [&](const MatrixX3d& P) {
     Measured m;
-    VectorXd area(F.rows());
-    for (Index f = 0; f < Index(F.rows()); ++f) area(f) = face_normal(P, F, f).norm();
+    m.normals.resize(F.rows(), 3);
+    for (Index f = 0; f < Index(F.rows()); ++f) m.normals.row(f) = face_normal(P, F, f);
+    const VectorXd area = m.normals.rowwise().norm();
     std::vector<double> sorted(area.data(), area.data() + area.size());
     std::nth_element(sorted.begin(), sorted.begin() + Index(sorted.size()) / 2, sorted.end());
     const double median = sorted[sorted.size() / 2];
@@ -279,8 +281,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       progress->report(std::min(0.99, double(round) / std::max(options.rounds, 1)),
                        "fitting the kept topology to the target");
     RoundSystem system(current, free_index);
-    MatrixX3d before_normals(F.rows(), 3);  // also what the step may not turn over
-    for (Index f = 0; f < Index(F.rows()); ++f) before_normals.row(f) = face_normal(current, F, f);
+    const MatrixX3d& before_normals = now.normals;  // also what the step may not turn over
     VectorXd face_share = before_normals.rowwise().norm();
     const double area = face_share.sum();
     if (!(area > 0)) break;

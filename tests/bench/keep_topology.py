@@ -32,7 +32,7 @@ import numpy as np
 from common import MODELS, emit, import_native, load_obj
 
 pm = import_native()
-from in_betweens import inverted_share_turning  # noqa: E402  (tests/native)
+from in_betweens import inverted_share_turning, rotation  # noqa: E402  (tests/native)
 
 PAIRS = ["suzanne>spot", "spot>cat", "spot>lion", "spot>horned-cow", "lion>horned-cow", "cat>lion", "lion>cat",
          "horned-cow>lion", "cat>horned-cow"]
@@ -75,23 +75,15 @@ def turned_half_way(VA, FA, end):
     return round(inverted_share_turning(VA, end, pm.ShapeInterpolation(VA, end, FA).at(0.5), FA, 0.5), 5)
 
 
-def turn(axis, degrees):
-    """Rotation matrix about `axis` (Rodrigues)."""
-    axis = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
-    t = np.radians(degrees)
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + np.sin(t) * K + (1 - np.cos(t)) * K @ K
-
-
 def placements(size):
     """(name, source transform, whole scene transform): (R, scale, move) each."""
     same = (np.eye(3), 1.0, np.zeros(3))
     up = [0.0, 1.0, 0.0]  # the models in ../shared/models stand along +y
-    return [("source turned 90 deg about up, beside", (turn(up, 90), 1.0, np.array([size, 0, 0])), same),
-            ("source facing away, twice the size", (turn(up, 180), 2.0, np.array([0, 0, size])), same),
-            ("source turned 20 deg and tilted 10", (turn(up, 20) @ turn([1, 0, 0], 10), 1.0, np.array([-size, 0, 0])),
-             same),
-            ("whole scene turned -120 deg, x7, moved", same, (turn([0, 1, 1], -120), 7.0, np.array([-30.0, 4, 2])))]
+    return [("source turned 90 deg about up, beside", (rotation(up, 90), 1.0, np.array([size, 0, 0])), same),
+            ("source facing away, twice the size", (rotation(up, 180), 2.0, np.array([0, 0, size])), same),
+            ("source turned 20 deg and tilted 10",
+             (rotation(up, 20) @ rotation([1, 0, 0], 10), 1.0, np.array([-size, 0, 0])), same),
+            ("whole scene turned -120 deg, x7, moved", same, (rotation([0, 1, 1], -120), 7.0, np.array([-30.0, 4, 2])))]
 
 
 def landmark_misses(a, b, sampled, VB, diagonal):
@@ -143,16 +135,16 @@ def main():
             VB, FB = subdivided(VB, FB)
         record = {"bench": "keep_topology", "pair": f"{a} -> {b}", "source_vertices": len(VA),
                   "target_faces": len(FB)}
+        diagonal = np.linalg.norm(np.ptp(VB, axis=0))
         sampled, end = keep(VA, FA, VB, FB, record)
         record["hausdorff_before"] = share(pm.surface_distance(sampled, FA, VB, FB), VB)
         record["hausdorff_after"] = share(pm.surface_distance(end, FA, VB, FB), VB)
         record["turned_half_way_before"] = turned_half_way(VA, FA, sampled)
         record["turned_half_way_after"] = turned_half_way(VA, FA, end)
-        record["landmark_miss_percent"] = landmark_misses(a, b, sampled, VB, np.linalg.norm(np.ptp(VB, axis=0)))
+        record["landmark_miss_percent"] = landmark_misses(a, b, sampled, VB, diagonal)
         emit(record)
         if not args.placements:
             continue
-        diagonal = np.linalg.norm(np.ptp(VB, axis=0))
         for name, (RA, sA, tA), (R, s, t) in placements(diagonal):
             placed = {"bench": "keep_topology", "pair": f"{a} -> {b}", "placement": name}
             A, B = s * (sA * VA @ RA.T + tA) @ R.T + t, s * VB @ R.T + t

@@ -159,8 +159,8 @@ def test_the_reported_distance_is_the_same_however_the_scene_is_turned():
     target = make_samples.build_octopus(name="Seven", subdivisions=4, limbs=7)
     VA, FA = bridge.mesh_arrays(source.data)[:2]
     VB, FB = bridge.mesh_arrays(target.data)[:2]
-    turn = np.array(Quaternion((1.0, 2.0, 0.5), 0.9).to_matrix(), dtype=np.float64)
-    turn = np.linalg.svd(turn)[0] @ np.linalg.svd(turn)[2]  # orthonormal to the last bit
+    u, _, vt = np.linalg.svd(np.array(Quaternion((1.0, 2.0, 0.5), 0.9).to_matrix(), dtype=np.float64))
+    turn = u @ vt  # orthonormal to the last bit
     outcomes = [morph_job.morph_with_in_betweens(VA @ R.T, FA, VB @ R.T, FB, progress=lambda f, stage: True,
                                                  keep_topology=True, target_turn=R)
                 for R in (np.eye(3), turn)]
