@@ -36,6 +36,9 @@ namespace paramorph::morph {
 
 namespace {
 
+/// Rounds straightening the placement by its tips: each pairs them again.
+constexpr int kPlacementRounds = 5;
+
 using Pairs = std::vector<std::array<Index, 2>>;
 
 VectorXd vertex_areas(const MatrixX3d& V, const MatrixX3i& F) {
@@ -377,16 +380,57 @@ std::vector<TipPathPair> unpinned_tip_path_pairs(const Side& A, const Side& B, c
   return out;
 }
 
-/// A turn of B's proxy into A's frame to start from: as placed, or one of
-/// the four proper sign choices of their principal axes (area-weighted).
+/// Where B is placed beside A, straightened by its own tips (issue 31): the
+/// tips paired by their paths as placed give the best turn of B's tips onto
+/// their partners (Kabsch about the frames' common centre); under that turn
+/// the tips are paired again, and the turn is kept while it pairs more of
+/// them, up to max_placement_turn. (As many, more cheaply, is no sign: the
+/// lion as the files lie paired its 6 more cheaply turned 20 degrees off,
+/// its muzzle onto a horn, 29 %.) A lion set down
+/// turned 20 degrees and tilted 10 beside the horned cow paired 5 of its 6
+/// tips as placed and the principal axes' candidate won, its muzzle 23 % of
+/// the diagonal off (3 % as the files lie); straightened, all 6 pair as they
+/// do as the files lie. A larger misplacement is taken as placed: two
+/// quadrupeds fit about as closely end for end as the right way round.
+struct Placement {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // column vectors: x_A = R x_B
+  std::vector<TipPathPair> pairs;                          // the tips' pairing under it
+};
+
+double rotation_angle(const Eigen::Matrix3d& R) { return std::acos(std::clamp(0.5 * (R.trace() - 1), -1.0, 1.0)); }
+
+Placement straightened_placement(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
+                                 const Pairs& pins, const CorrespondenceOptions& o) {
+  Placement placed{Eigen::Matrix3d::Identity(), unpinned_tip_path_pairs(A, B, VA, VB, pins, Eigen::Matrix3d::Identity(), o)};
+  for (int round = 0; round < kPlacementRounds && placed.pairs.size() >= 3; ++round) {
+    MatrixX3d from(Index(placed.pairs.size()), 3), to(Index(placed.pairs.size()), 3);
+    for (std::size_t k = 0; k < placed.pairs.size(); ++k) {
+      from.row(Index(k)) = B.V.row(placed.pairs[k].b);
+      to.row(Index(k)) = A.V.row(placed.pairs[k].a);
+    }
+    const Eigen::Matrix3d turn = best_rotation(from, to).transpose();  // rows: from R ~ to
+    if (rotation_angle(turn) > o.max_placement_turn) break;
+    std::vector<TipPathPair> pairs = unpinned_tip_path_pairs(A, B, VA, VB, pins, turn, o);
+    if (pairs.size() <= placed.pairs.size()) break;
+    placed = {turn, std::move(pairs)};
+  }
+  return placed;
+}
+
+/// A turn of B's proxy into A's frame to start from: as placed
+/// (straightened), or one of the four proper sign choices of their
+/// principal axes (area-weighted).
 struct Start {
   std::string detail;
   Eigen::Matrix3d rotation;  // column vectors: x_A = R x_B
 };
 
-std::vector<Start> shape_starts(const Side& A, const Side& B) {
+std::vector<Start> shape_starts(const Side& A, const Side& B, const Placement& placed) {
   const Eigen::Matrix3d axes_a = principal_axes(A.V, A.area).axes, axes_b = principal_axes(B.V, B.area).axes;
-  std::vector<Start> starts{{"as placed", Eigen::Matrix3d::Identity()}};
+  std::vector<Start> starts{{placed.rotation == Eigen::Matrix3d::Identity()
+                                 ? std::string("as placed")
+                                 : "as placed, straightened by " + degrees(rotation_angle(placed.rotation)),
+                             placed.rotation}};
   const char* turns[4] = {"principal axes", "principal axes, turned 180 deg about the first",
                           "principal axes, turned 180 deg about the second", "principal axes, turned 180 deg about the third"};
   const double signs[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
@@ -399,7 +443,7 @@ std::vector<Start> shape_starts(const Side& A, const Side& B) {
 /// the one "given" candidate.
 std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
                                  const Pairs& pins, const std::optional<Pairs>& given,
-                                 const std::vector<TipPathPair>& placed_tip_pairs, const CorrespondenceOptions& o,
+                                 const Placement& placed, const CorrespondenceOptions& o,
                                  Progress* progress) {
   std::vector<Raw> raw;
   if (given) {
@@ -438,11 +482,11 @@ std::vector<Raw> make_candidates(const Side& A, const Side& B, const MatrixX3d& 
       if (!r.pairs.empty()) raw.push_back(std::move(r));
     }
     if (progress) progress->report(0.82, "correspondence candidates");
-    const std::vector<Start> starts = shape_starts(A, B);
+    const std::vector<Start> starts = shape_starts(A, B, placed);
     if (o.extremities && o.tip_paths) {
       for (const Start& start : starts) {
-        const std::vector<TipPathPair> paired = start.rotation == Eigen::Matrix3d::Identity()
-                                                    ? placed_tip_pairs
+        const std::vector<TipPathPair> paired = &start == &starts.front()
+                                                    ? placed.pairs
                                                     : unpinned_tip_path_pairs(A, B, VA, VB, pins, start.rotation, o);
         if (paired.size() < 2) continue;
         Raw r{"tip paths", "", {}, Eigen::Matrix3d::Identity(), {}};
@@ -533,10 +577,10 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
                  std::isfinite(o.pin_radius) && o.pin_radius >= 0 && o.fallbacks >= 0 &&
                  std::isfinite(o.protrusion_radius) && o.protrusion_radius > 0 && o.tip_path_samples >= 2 &&
                  std::isfinite(o.tip_path_cost) && o.tip_path_cost > 0 && std::isfinite(o.mirror_weight) &&
-                 o.mirror_weight >= 0,
+                 o.mirror_weight >= 0 && std::isfinite(o.max_placement_turn) && o.max_placement_turn >= 0,
              InvalidInputError,
              "proxy_faces >= 100, max_tips >= 1, tip_angle, registered_tip_distance, protrusion_radius and tip_path_cost > 0, "
-             "tip_path_samples >= 2, pin_radius, mirror_weight and fallbacks >= 0");
+             "tip_path_samples >= 2, pin_radius, mirror_weight, max_placement_turn and fallbacks >= 0");
   Correspondence out;
   auto clock = std::chrono::steady_clock::now();
   auto mark = [&](const char* stage) {
@@ -559,13 +603,14 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
     const PinOrder order = points_order(pin_points);
     PM_REQUIRE(!order.mirrored(), ConstraintError, mirrored_pins_message(order));
   }
-  // The tips' own pairing as the models are placed: a candidate, and every
-  // candidate is scored for keeping it (tip_disagreement).
-  const std::vector<TipPathPair> placed_tip_pairs =
-      !given && o.extremities && o.tip_paths
-          ? unpinned_tip_path_pairs(A, B, VA, VB, pins, Eigen::Matrix3d::Identity(), o)
-          : std::vector<TipPathPair>{};
-  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, placed_tip_pairs, o, progress);
+  // The tips' own pairing as the models are placed (straightened): a
+  // candidate, and every candidate is scored for keeping it
+  // (tip_disagreement) and for how far it turns B from that placement.
+  const Placement placed =
+      !given && o.extremities && o.tip_paths ? straightened_placement(A, B, VA, VB, pins, o) : Placement{};
+  const std::vector<TipPathPair>& placed_tip_pairs = placed.pairs;
+  out.placement_turn = rotation_angle(placed.rotation);
+  const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, placed, o, progress);
   mark("candidates");
 
   // A proxy pair within pin_radius of a pin on either model.
@@ -634,8 +679,9 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
       candidate.curvature_mismatch = curvature_mismatch(A, B, landed);
       candidate.tip_disagreement =
           tip_disagreement(A, landed, placed_tip_pairs, o.protrusion_radius, o.tip_path_cost);
+      // Rows: B.map turn ~ warped; the placement's own turn of B is placed.rotation.
       const Eigen::Matrix3d turn = best_rotation(B.map, warped, B.area);
-      candidate.turn = std::acos(std::clamp(0.5 * (turn.trace() - 1), -1.0, 1.0));
+      candidate.turn = rotation_angle(turn * placed.rotation);
       candidate.score = (candidate.distortion + o.curvature_weight * candidate.curvature_mismatch) *
                         (1 + o.placement_weight * candidate.turn / M_PI) *
                         (1 + o.tip_weight * candidate.tip_disagreement);

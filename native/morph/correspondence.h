@@ -117,6 +117,10 @@ struct CorrespondenceOptions {
   /// candidates score within 10% of each other, and a half-turned one won
   /// by chance (Suzanne into a blob came out turned round).
   double placement_weight = 0.25;
+  /// The largest turn (radians) that straightening B's placement by its
+  /// tips may take (a lion turned 20 degrees and tilted 10 beside the
+  /// horned cow took about 20); a larger misplacement is taken as placed.
+  double max_placement_turn = 0.8;
   /// How much the score grows as the candidate's map puts B's protrusion
   /// tips away from the partners their paths chose as placed: times 1 +
   /// tip_weight x tip_disagreement (0 to 1).
@@ -145,7 +149,8 @@ struct CorrespondenceCandidate {
   /// misses (a map sliding along a smooth surface carries a bump beside its
   /// partner and bends little).
   double curvature_mismatch = 0;
-  /// Radians B's map is turned from where the models are placed.
+  /// Radians B's map is turned from where the models are placed
+  /// (straightened: Correspondence::placement_turn).
   double turn = 0;
   /// 0 to 1: how far the map puts B's protrusion tips from the partners
   /// their paths chose as placed (tip_path_pairs), confidence-weighted.
@@ -185,6 +190,9 @@ struct Correspondence {
   /// The best's automatic pairs on the models (vertex of A, of B), without
   /// the pins; distinct vertices.
   std::vector<std::array<Index, 2>> pairs;
+  /// Radians B's placement was straightened by its tips before the
+  /// candidates (0: taken as placed).
+  double placement_turn = 0;
   std::vector<std::pair<std::string, double>> timings;  ///< per stage, seconds
 };
 

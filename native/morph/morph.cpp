@@ -181,6 +181,7 @@ Morph morph_once(const MatrixX3d& VA, const MatrixX3i& FA, const MatrixX3d& VB, 
   });
   m.timings = c.timings;
   m.candidates = c.candidates;
+  m.placement_turn = c.placement_turn;
 
   // 3. The two maps. A's is its proxy's map read at its vertices; B's is its
   // own map carried by the chosen correspondence's flow, from where its

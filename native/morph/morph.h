@@ -69,6 +69,10 @@ struct Morph {
   /// A model's file was inside-out: its faces were turned for the
   /// correspondence, and the merged faces face outward.
   bool inside_out_a = false, inside_out_b = false;
+  /// Radians B's placement beside A was straightened by its tips for the
+  /// correspondence (Correspondence::placement_turn); the output keeps the
+  /// models as placed.
+  double placement_turn = 0;
   /// Isometric distortion of the final correspondence (map_distortion of B
   /// read on A through the two maps; 0 for an isometry).
   double distortion = 0;

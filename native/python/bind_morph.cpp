@@ -376,6 +376,8 @@ void def_correspondence(py::module_& m) {
                              "the chosen candidate's map of B's proxy, on A's proxy map")
       .def_readonly("inside_out_a", &MorphCorrespondence::inside_out_a)
       .def_readonly("inside_out_b", &MorphCorrespondence::inside_out_b)
+      .def_property_readonly("placement_turn", [](const MorphCorrespondence& r) { return r.correspondence.placement_turn; },
+                             "radians B's placement was straightened by its tips before matching (0: as placed)")
       .def_property_readonly("timings", [](const MorphCorrespondence& r) { return r.correspondence.timings; });
 }
 
@@ -423,6 +425,9 @@ void def_morph(py::module_& m) {
                     "isometric distortion of the final correspondence (0 for an isometry)")
       .def_readonly("inside_out_a", &Morph::inside_out_a, "A's file was inside-out (turned for the morph)")
       .def_readonly("inside_out_b", &Morph::inside_out_b, "B's file was inside-out (turned for the morph)")
+      .def_readonly("placement_turn", &Morph::placement_turn,
+                    "radians B's placement beside A was straightened by its tips for the correspondence "
+                    "(0: matched as placed); the output keeps the models as placed")
       .def_property_readonly("sphere_a", [](const Morph& r) { return to_numpy(r.sphere_a); })
       .def_property_readonly("sphere_b", [](const Morph& r) { return to_numpy(r.sphere_b); })
       .def_readonly("timings", &Morph::timings)
@@ -486,7 +491,8 @@ most weld_tolerance; 0: off; morph.weld says what it did).
 
 Returns Morph: faces, sphere, source (A as placed), target (B as placed),
 vertex_of_a/b, source_face_a/b, merged, pairs, pair_is_pin, candidates,
-chosen, distortion, inside_out_a/b, sphere_a/b, timings, weld, fallbacks (what it fell back on,
+chosen, distortion, inside_out_a/b, placement_turn (radians B's placement was straightened by
+its tips for the correspondence, set down a little askew), sphere_a/b, timings, weld, fallbacks (what it fell back on,
 in words: a model's own sphere map where its proxy's keeps folds), carry(side, values).
 Errors name the mesh ("mesh A: ..."), keep their MeshError type; pins out of
 range: InvalidInputError; a vertex pinned twice or mirrored pins:

@@ -1,7 +1,7 @@
 """The morph on every pair of real characters in ../shared/models (issue 29),
 JSON lines:
 
-    /usr/bin/python3 tests/bench/morph_models.py [--pairs cat>lion,...] [--pinned] [--turns] [--zoomout]
+    /usr/bin/python3 tests/bench/morph_models.py [--pairs cat>lion,...] [--pinned] [--turns] [--askew] [--zoomout]
 
 Every ordered pair of the closed genus-0 characters (cat, lion, horned-cow,
 samba, dancer): whether pm.morph succeeds, its seconds, the candidate chosen
@@ -14,6 +14,10 @@ diagonal (mean, max, each) and how many land nearest their own counterpart.
 vertical, 135 deg about z with scale 2.5 and a shift, an arbitrary turn with
 scale 0.01): the largest distance of a landmark from where it landed as
 placed, as a share of the diagonal (target 0.5 %).
+--askew: again with the source alone set down by hand beside the target,
+turned about its own centre (ASKEW: about the vertical, +y in these files,
+and tilted): the landmarks as above, and how far the morph straightened
+the placement (Morph.placement_turn, degrees).
 --zoomout: ZoomOut's numbers beside ours (tests/bench/zoomout.py; needs
 pyfmaps, e.g. in a venv with numpy < 2).
 Targets (issue 29): no error; no pins: each landmark nearest its own, mean
@@ -38,6 +42,13 @@ TURNS = [("x 90", rotation([1, 0, 0], 90), 1.0, np.zeros(3)),
          ("vertical 60", rotation([0, 1, 0], 60), 1.0, np.zeros(3)),
          ("z 135, x2.5, moved", rotation([0, 0, 1], 135), 2.5, np.array([3.0, -1.0, 2.0])),
          ("arbitrary 77, x0.01", rotation([0.3, 0.8, -0.5], 77), 0.01, np.array([0.1, 0.2, 0.3]))]
+
+UP, ACROSS, ALONG = [0, 1, 0], [1, 0, 0], [0, 0, 1]
+ASKEW = [("20 about the vertical, tilted 10", rotation(UP, 20) @ rotation(ACROSS, 10)),
+         ("30 about the vertical", rotation(UP, -30)),
+         ("pitched 15", rotation(ACROSS, -15)),
+         ("rolled 15", rotation(ALONG, 15)),
+         ("40 about the vertical, pitched 10", rotation(UP, 40) @ rotation(ACROSS, -10))]
 
 
 def landed(morph, LA):
@@ -68,6 +79,7 @@ def main():
     parser.add_argument("--pairs", help="comma-separated a>b (default: every ordered pair)")
     parser.add_argument("--pinned", action="store_true")
     parser.add_argument("--turns", action="store_true")
+    parser.add_argument("--askew", action="store_true")
     parser.add_argument("--zoomout", action="store_true")
     args = parser.parse_args()
     if not (MODELS / "landmarks.json").exists():
@@ -114,6 +126,16 @@ def main():
                     outcome["moved_from_placed"] = round(float(np.linalg.norm(back - placed, axis=1).max() / diagonal), 4)
                     outcome.update(scores(back, VB, LB, names))
                 emit({"bench": "morph_models", "pair": f"{a} -> {b}", "turn": name, **outcome})
+        if args.askew:
+            diagonal = np.linalg.norm(np.ptp(VB, axis=0))
+            centre = VA.mean(axis=0)
+            for name, R in ASKEW:
+                set_down = (VA - centre) @ R.T + centre + np.array([diagonal, 0.0, 0.0])
+                askew, outcome = run(set_down, FA, VB, FB)
+                if askew is not None:
+                    outcome["straightened_degrees"] = round(float(np.degrees(askew.placement_turn)), 1)
+                    outcome.update(scores(landed(askew, LA), VB, LB, names))
+                emit({"bench": "morph_models", "pair": f"{a} -> {b}", "askew": name, **outcome})
         if zoomout is not None:
             for hints in (None, "four hooves"):
                 pairs = None if hints is None else [(landmarks[a + ".obj"][n], landmarks[b + ".obj"][n]) for n in HOOVES]
