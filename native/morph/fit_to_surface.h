@@ -16,7 +16,8 @@
 //      where that face and B's normal there agree (never across a thin gap
 //      to the other side);
 //   3. where part of B starts unreached (twice as far from A as A is from
-//      B: a horn or a tail the source has nothing for), the farther side's
+//      B: a horn or a tail the source has nothing for), or is so after 10
+//      rounds none of which came closer than the start, the farther side's
 //      far samples are weighted up each round, towards the largest distance
 //      rather than the mean;
 //   4. each round's displacement is smooth: its graph Laplacian over A's
