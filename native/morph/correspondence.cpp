@@ -397,8 +397,6 @@ struct Placement {
   std::vector<TipPathPair> pairs;                          // the tips' pairing under it
 };
 
-double rotation_angle(const Eigen::Matrix3d& R) { return std::acos(std::clamp(0.5 * (R.trace() - 1), -1.0, 1.0)); }
-
 Placement straightened_placement(const Side& A, const Side& B, const MatrixX3d& VA, const MatrixX3d& VB,
                                  const Pairs& pins, const CorrespondenceOptions& o) {
   Placement placed{Eigen::Matrix3d::Identity(), unpinned_tip_path_pairs(A, B, VA, VB, pins, Eigen::Matrix3d::Identity(), o)};
@@ -409,7 +407,7 @@ Placement straightened_placement(const Side& A, const Side& B, const MatrixX3d& 
       to.row(Index(k)) = A.V.row(placed.pairs[k].a);
     }
     const Eigen::Matrix3d turn = best_rotation(from, to).transpose();  // rows: from R ~ to
-    if (rotation_angle(turn) > o.max_placement_turn) break;
+    if (Eigen::AngleAxisd(turn).angle() > o.max_placement_turn) break;
     std::vector<TipPathPair> pairs = unpinned_tip_path_pairs(A, B, VA, VB, pins, turn, o);
     if (pairs.size() <= placed.pairs.size()) break;
     placed = {turn, std::move(pairs)};
@@ -429,7 +427,7 @@ std::vector<Start> shape_starts(const Side& A, const Side& B, const Placement& p
   const Eigen::Matrix3d axes_a = principal_axes(A.V, A.area).axes, axes_b = principal_axes(B.V, B.area).axes;
   std::vector<Start> starts{{placed.rotation == Eigen::Matrix3d::Identity()
                                  ? std::string("as placed")
-                                 : "as placed, straightened by " + degrees(rotation_angle(placed.rotation)),
+                                 : "as placed, straightened by " + degrees(Eigen::AngleAxisd(placed.rotation).angle()),
                              placed.rotation}};
   const char* turns[4] = {"principal axes", "principal axes, turned 180 deg about the first",
                           "principal axes, turned 180 deg about the second", "principal axes, turned 180 deg about the third"};
@@ -608,8 +606,7 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
   // (tip_disagreement) and for how far it turns B from that placement.
   const Placement placed =
       !given && o.extremities && o.tip_paths ? straightened_placement(A, B, VA, VB, pins, o) : Placement{};
-  const std::vector<TipPathPair>& placed_tip_pairs = placed.pairs;
-  out.placement_turn = rotation_angle(placed.rotation);
+  out.placement_turn = Eigen::AngleAxisd(placed.rotation).angle();
   const std::vector<Raw> raw = make_candidates(A, B, VA, VB, pins, given, placed, o, progress);
   mark("candidates");
 
@@ -678,10 +675,10 @@ Correspondence correspondence(const MatrixX3d& VA, const MatrixX3i& FA, const Ma
       const SphereLocations landed = locate_on_sphere_map(A.map, A.F, warped);
       candidate.curvature_mismatch = curvature_mismatch(A, B, landed);
       candidate.tip_disagreement =
-          tip_disagreement(A, landed, placed_tip_pairs, o.protrusion_radius, o.tip_path_cost);
+          tip_disagreement(A, landed, placed.pairs, o.protrusion_radius, o.tip_path_cost);
       // Rows: B.map turn ~ warped; the placement's own turn of B is placed.rotation.
       const Eigen::Matrix3d turn = best_rotation(B.map, warped, B.area);
-      candidate.turn = rotation_angle(turn * placed.rotation);
+      candidate.turn = Eigen::AngleAxisd(turn * placed.rotation).angle();
       candidate.score = (candidate.distortion + o.curvature_weight * candidate.curvature_mismatch) *
                         (1 + o.placement_weight * candidate.turn / M_PI) *
                         (1 + o.tip_weight * candidate.tip_disagreement);

@@ -79,6 +79,13 @@ def load(name):
     return load_obj(MODELS / f"{name}.obj")
 
 
+def landmarks(a, b):
+    """Both models' landmark vertices (landmarks.json), in the same order."""
+    marks = json.loads((MODELS / "landmarks.json").read_text())
+    names = list(marks[f"{a}.obj"])
+    return (np.array([marks[f"{a}.obj"][n] for n in names]), np.array([marks[f"{b}.obj"][n] for n in names]))
+
+
 needs_models = pytest.mark.skipif(not (MODELS / "landmarks.json").exists(), reason="no ../shared/models")
 
 
@@ -87,11 +94,8 @@ needs_models = pytest.mark.skipif(not (MODELS / "landmarks.json").exists(), reas
 def test_real_animals_the_same_however_turned_and_every_landmark_nearest_its_own(a, b):
     # horned cow -> lion: its landmarks moved 52 % with the scene before the
     # shape's own frame, and its muzzle went to an ear before the mirror.
-    marks = json.loads((MODELS / "landmarks.json").read_text())
     (VA, FA), (VB, FB) = load(a), load(b)
-    names = list(marks[f"{a}.obj"])
-    LA = np.array([marks[f"{a}.obj"][n] for n in names])
-    LB = np.array([marks[f"{b}.obj"][n] for n in names])
+    LA, LB = landmarks(a, b)
     answers = turned_answers(VA, FA, VB, FB, LA, [TURNS[0], TURNS[3]])
     diagonal = np.linalg.norm(np.ptp(VB, axis=0))
     for points, _ in answers:
@@ -135,11 +139,8 @@ def test_a_source_set_down_askew_is_straightened_by_its_tips():
     ("horned-cow", "lion", rotation([0, 1, 0], -30)),
     ("horned-cow", "lion", rotation([1, 0, 0], -15))])
 def test_real_animals_set_down_askew_land_every_landmark_nearest_its_own(a, b, turn):
-    marks = json.loads((MODELS / "landmarks.json").read_text())
     (VA, FA), (VB, FB) = load(a), load(b)
-    names = list(marks[f"{a}.obj"])
-    LA = np.array([marks[f"{a}.obj"][n] for n in names])
-    LB = np.array([marks[f"{b}.obj"][n] for n in names])
+    LA, LB = landmarks(a, b)
     diagonal = np.linalg.norm(np.ptp(VB, axis=0))
     m = pm.morph(set_down(VA, turn) + [diagonal, 0, 0], FA, VB, FB)
     assert folded_faces(m) == 0 and m.placement_turn > 0
