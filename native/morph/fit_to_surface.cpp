@@ -272,7 +272,10 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
   out.positions = current;
   out.distance_before = out.distance_after = now.distance;
   if (free_count == 0) return out;
-  bool unreached = now.on_source.distance.maxCoeff() > kUnreachedRatio * now.on_target.distance.maxCoeff();
+  auto b_unreached = [](const Measured& m) {
+    return m.on_source.distance.maxCoeff() > kUnreachedRatio * m.on_target.distance.maxCoeff();
+  };
+  bool unreached = b_unreached(now);
 
   SupernodalCholesky<SparseMatrix> solver;
   bool analysed = false;
@@ -289,8 +292,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     // started with both sides alike (8.9 and 9.5 % of the frame), the rounds
     // drew it away from the horns (16 %), and the fit, never closer than at
     // the start, returned the start (8.3 % of the diagonal).
-    unreached = unreached || (last_gain == 0 && round >= kStalledRounds &&
-                              now.on_source.distance.maxCoeff() > kUnreachedRatio * now.on_target.distance.maxCoeff());
+    unreached = unreached || (last_gain == 0 && round >= kStalledRounds && b_unreached(now));
     RoundSystem system(current, free_index);
     const MatrixX3d& before_normals = now.normals;  // also what the step may not turn over
     VectorXd face_share = before_normals.rowwise().norm();
