@@ -1,6 +1,8 @@
 // Closest points on a triangle mesh through CGAL's AABB tree (mesh/closest_points.h).
 #include "mesh/closest_points.h"
 
+#include "common/parallel.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <vector>
@@ -72,6 +74,9 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
     const Eigen::RowVector3d qi = Q.row(i) * scale_;
     PM_REQUIRE(qi.allFinite() && qi.cwiseAbs().maxCoeff() <= 1e100, InvalidInputError, "closest points: query ", i,
                " (", Q(i, 0), ", ", Q(i, 1), ", ", Q(i, 2), ") is not finite or too far from the mesh");
+  }
+  auto answer = [&](Index i) {
+    const Eigen::RowVector3d qi = Q.row(i) * scale_;
     const Point q(qi[0], qi[1], qi[2]);
     Index hinted = hint && hint->face[i] >= 0 && hint->face[i] < Index(tree_->triangle.size())
                        ? tree_->triangle[hint->face[i]] : -1;
@@ -97,7 +102,14 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
     out.bary.row(i) << 1.0 - u - w, u, w;
     out.points.row(i) = x / scale_;
     out.distance[i] = (x - qi).norm() / scale_;
-  }
+  };
+  // The first query builds the tree's search structure (CGAL does it
+  // lazily); after that queries only read the tree, so they run in
+  // parallel, each writing its own row: the same answers on any number of
+  // threads.
+  if (n > 0) answer(0);
+#pragma omp parallel for schedule(dynamic, 512) if (worth_parallel(n))
+  for (Index i = 1; i < n; ++i) answer(i);
   return out;
 }
 

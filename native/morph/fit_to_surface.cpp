@@ -207,8 +207,19 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     ClosestPoints on_source;  // of B's samples
     double distance = 0.0;
   };
-  ClosestPoints hint;
-  bool have_hint = false;
+  // Each round's queries start from the round before's answers, moved
+  // little: a point on the other surface near the answer bounds the search
+  // (the answers are the same, found sooner).
+  ClosestPoints hint, source_hint;
+  bool have_hint = false, have_source_hint = false;
+  // The grid sample of a face nearest to barycentric point b (the grid is
+  // laid out by rows i = 0..steps, each j = 0..steps - i).
+  const int steps_of_grid = grid_steps(Index(F.rows()));
+  auto nearest_on_grid = [&](const std::array<double, 3>& b) {
+    const int i = std::clamp(int(std::lround(b[0] * steps_of_grid)), 0, steps_of_grid);
+    const int j = std::clamp(int(std::lround(b[1] * steps_of_grid)), 0, steps_of_grid - i);
+    return Index(i * (steps_of_grid + 1) - i * (i - 1) / 2 + j);
+  };
   auto measure = [&](const MatrixX3d& P) {
     Measured m;
     m.normals.resize(F.rows(), 3);
@@ -251,7 +262,14 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     if (fine == 0) {
       m.on_target = std::move(grid_part);
     } else {
-      const ClosestPoints fine_part = target_tree.query(samples.bottomRows(fine));
+      // Each starts from the answer of its face's nearest grid sample.
+      ClosestPoints fine_hint{VectorXi(fine), MatrixX3d(fine, 3), MatrixX3d(fine, 3), VectorXd(fine)};
+      for (Index k = 0; k < fine; ++k) {
+        const Index g = m.fine_face[k] * per_face + nearest_on_grid(m.fine_bary[k]);
+        fine_hint.face(k) = grid_part.face(g);
+        fine_hint.points.row(k) = grid_part.points.row(g);
+      }
+      const ClosestPoints fine_part = target_tree.query(samples.bottomRows(fine), &fine_hint);
       m.on_target.face.resize(samples.rows());
       m.on_target.bary.resize(samples.rows(), 3);
       m.on_target.points.resize(samples.rows(), 3);
@@ -261,7 +279,17 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       m.on_target.points << grid_part.points, fine_part.points;
       m.on_target.distance << grid_part.distance, fine_part.distance;
     }
-    m.on_source = ClosestPointTree(P, F).query(target_points);
+    // B's samples start from where they were on A the round before (the
+    // same face and barycentric point, on A as it is now).
+    if (have_source_hint)
+      for (Index k = 0; k < Index(source_hint.face.size()); ++k) {
+        const Index f = source_hint.face(k);
+        source_hint.points.row(k) = source_hint.bary(k, 0) * P.row(F(f, 0)) + source_hint.bary(k, 1) * P.row(F(f, 1)) +
+                                    source_hint.bary(k, 2) * P.row(F(f, 2));
+      }
+    m.on_source = ClosestPointTree(P, F).query(target_points, have_source_hint ? &source_hint : nullptr);
+    source_hint = m.on_source;
+    have_source_hint = true;
     m.distance = std::max(m.on_target.distance.maxCoeff(), m.on_source.distance.maxCoeff());
     return m;
   };
