@@ -294,11 +294,22 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     return m;
   };
 
+  // A's faces whose normal points against B's under their centre.
+  auto facing_away = [&](const MatrixX3d& P) {
+    MatrixX3d centres(F.rows(), 3);
+    for (Index f = 0; f < Index(F.rows()); ++f) centres.row(f) = (P.row(F(f, 0)) + P.row(F(f, 1)) + P.row(F(f, 2))) / 3.0;
+    const ClosestPoints under = target_tree.query(centres);
+    Index against = 0;
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      against += source_side * face_normal(P, F, f).dot(face_normal(VB, FB, under.face(f))) < 0;
+    return double(against) / double(std::max<Index>(1, Index(F.rows())));
+  };
   FitToSurface out;
   MatrixX3d current = X;
   Measured now = measure(current);
   out.positions = current;
   out.distance_before = out.distance_after = now.distance;
+  out.facing_away_before = out.facing_away_after = facing_away(X);
   if (free_count == 0) return out;
   auto b_unreached = [](const Measured& m) {
     return m.on_source.distance.maxCoeff() > kUnreachedRatio * m.on_target.distance.maxCoeff();
@@ -405,6 +416,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       last_gain = round + 1;
     }
   }
+  out.facing_away_after = facing_away(out.positions);
   if (progress) progress->report(1.0, "fitting the kept topology to the target");
   return out;
 }

@@ -63,6 +63,10 @@ struct FitToSurface {
   int rounds = 0;                ///< rounds that stepped (the schedule's and any after)
   double distance_before = 0.0;  ///< sampled two-sided distance (largest over the samples) at the start
   double distance_after = 0.0;   ///< the same for `positions`
+  /// Share of A's faces whose normal points against B's at the closest
+  /// point to their centre (pleats and wrinkles the distance does not see),
+  /// at the start and for `positions`.
+  double facing_away_before = 0.0, facing_away_after = 0.0;
 };
 
 /// X, F: A's mesh as it lies on B (#V by 3, #F by 3); VB, FB: the target B.

@@ -17,6 +17,9 @@ void bind_fit_to_surface(py::module_& m) {
       .def_readonly("distance_before", &morph::FitToSurface::distance_before,
                     "sampled two-sided distance (the largest) at the start")
       .def_readonly("distance_after", &morph::FitToSurface::distance_after, "the same for positions")
+      .def_readonly("facing_away_before", &morph::FitToSurface::facing_away_before,
+                    "share of the faces whose normal points against the target's under their centre, at the start")
+      .def_readonly("facing_away_after", &morph::FitToSurface::facing_away_after, "the same for positions")
       .def("__repr__", [](const morph::FitToSurface& r) {
         return "<FitToSurface rounds=" + std::to_string(r.rounds) + " distance " + std::to_string(r.distance_before) +
                " -> " + std::to_string(r.distance_after) + ">";

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -130,6 +131,25 @@ TEST(FitToSurface, GoesOnPastTheScheduleWhileItComesCloser) {
   EXPECT_GT(patient.rounds, 10);
   EXPECT_LE(patient.rounds, 20);
   EXPECT_LT(patient.distance_after, plain.distance_after);
+}
+
+TEST(FitToSurface, CountsTheFacesThatPointAgainstTheTarget) {
+  // A lying on B itself faces the way B does; turning 7 of its faces (a
+  // pleat, as it were) is counted, whichever way A's file faces as a whole.
+  const Case c = horned_case();
+  morph::FitToSurfaceOptions none;
+  none.rounds = 0;
+  const morph::FitToSurface same = morph::fit_to_surface(c.VB, c.FB, c.VB, c.FB, VectorXi(), none);
+  EXPECT_EQ(same.facing_away_before, 0.0);
+  MatrixX3i pleated = c.FB;
+  for (Index f = 0; f < 7; ++f) std::swap(pleated(100 * f, 1), pleated(100 * f, 2));
+  const double share = 7.0 / double(c.FB.rows());
+  EXPECT_DOUBLE_EQ(morph::fit_to_surface(c.VB, pleated, c.VB, c.FB, VectorXi(), none).facing_away_before, share);
+  MatrixX3i inside_out = pleated;
+  inside_out.col(1).swap(inside_out.col(2));
+  const morph::FitToSurface turned = morph::fit_to_surface(c.VB, inside_out, c.VB, c.FB, VectorXi(), none);
+  EXPECT_DOUBLE_EQ(turned.facing_away_before, share);
+  EXPECT_EQ(turned.facing_away_after, turned.facing_away_before);  // no rounds: the same mesh
 }
 
 TEST(FitToSurface, RefusesBadInput) {
