@@ -103,10 +103,10 @@ ClosestPoints ClosestPointTree::query(const MatrixX3d& Q, const ClosestPoints* h
     out.points.row(i) = x / scale_;
     out.distance[i] = (x - qi).norm() / scale_;
   };
-  // The first query builds the tree's search structure (CGAL does it
-  // lazily); after that queries only read the tree, so they run in
-  // parallel, each writing its own row: the same answers on any number of
-  // threads.
+  // The first query builds the tree and its search structure (CGAL does it
+  // lazily, under a lock): alone, so the other threads do not queue on that
+  // lock. After it queries only read the tree, so they run in parallel, each
+  // writing its own row: the same answers on any number of threads.
   if (n > 0) answer(0);
 #pragma omp parallel for schedule(dynamic, 512) if (worth_parallel(n))
   for (Index i = 1; i < n; ++i) answer(i);
