@@ -302,7 +302,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     Index against = 0;
     for (Index f = 0; f < Index(F.rows()); ++f)
       against += source_side * face_normal(P, F, f).dot(face_normal(VB, FB, under.face(f))) < 0;
-    return double(against) / double(std::max<Index>(1, Index(F.rows())));
+    return double(against) / double(F.rows());  // fit_to_surface refuses a mesh without faces
   };
   FitToSurface out;
   MatrixX3d current = X;
