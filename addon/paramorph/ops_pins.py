@@ -15,9 +15,9 @@ import numpy as np
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from . import bridge, overlay, poll_reasons, view_ray
+from . import bridge, overlay, pin_store, poll_reasons, view_ray
 from .native_operator import UserError
-from .ops_morph import add_pin, claim, restore, snapshot, two_objects
+from .pin_store import add_pin, claim, restore, snapshot, two_objects
 
 SIDES = ("source", "target")
 
@@ -137,9 +137,6 @@ class PinPicker:
         return f"{text}   ({self.message})" if self.message else text
 
 
-# What the overlay draws while a session runs (a PinPicker), else None.
-active = None
-
 _NAVIGATION = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "WHEELINMOUSE", "WHEELOUTMOUSE",
                "TRACKPADPAN", "TRACKPADZOOM", "NDOF_MOTION", "NUMPAD_0", "NUMPAD_1", "NUMPAD_2", "NUMPAD_3",
                "NUMPAD_4", "NUMPAD_5", "NUMPAD_6", "NUMPAD_7", "NUMPAD_8", "NUMPAD_9", "NUMPAD_PERIOD",
@@ -149,11 +146,6 @@ _NAVIGATION = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "WHEELINMOUSE", 
 
 _WHERE = ("Pick Pins works in the 3D Viewport with the mouse (from scripts: "
           "paramorph.add_pin with vertex_a and vertex_b)")
-
-
-def _set_active(picker):
-    global active
-    active = picker
 
 
 class PARAMORPH_OT_pick_pins(bpy.types.Operator):
@@ -192,7 +184,7 @@ class PARAMORPH_OT_pick_pins(bpy.types.Operator):
         claim(matches, source, target)
         self._picker = PinPicker(source, target)
         self._picker.hover = self._under(context, event)
-        _set_active(self._picker)
+        pin_store.set_active_picker(self._picker)
         context.window_manager.modal_handler_add(self)
         self._refresh(context)
         return {"RUNNING_MODAL"}
@@ -243,7 +235,7 @@ class PARAMORPH_OT_pick_pins(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def _end(self, context):
-        _set_active(None)
+        pin_store.set_active_picker(None)
         if context.area is not None:
             context.area.header_text_set(None)
         overlay.tag_redraw(context)

@@ -11,7 +11,7 @@ import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
-from . import regions
+from . import pin_store, regions
 
 _handler = None
 # object name -> (mesh pointer, batches). Built once per geometry: a
@@ -194,13 +194,11 @@ def _draw_picking(marks):
 
 
 def draw():
-    from . import ops_pins  # imports this module: import at draw time
-
     context = bpy.context
     scene = context.scene
     if scene is None or not getattr(scene, "paramorph", None):
         return
-    picker = ops_pins.active
+    picker = pin_store.active_picker
     show = scene.paramorph.show_overlay
     if not show and picker is None:
         return

@@ -380,10 +380,10 @@ def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
 def test_pick_pins_picker_pins_the_vertices_under_the_rays_and_takes_them_back():
     """The Pick Pins tool's picking state, driven with rays as the modal tool
     drives it with the mouse (the modal tool itself: tests/gui)."""
-    from paramorph import ops_morph
+    from paramorph import pin_store
     source, target = morph_pair()
     a, b = tip_pin(source, target)
-    matches = ops_morph.claim(bpy.context.scene.paramorph_matches, source, target)
+    matches = pin_store.claim(bpy.context.scene.paramorph_matches, source, target)
     picker = ops_pins.PinPicker(source, target)
 
     def ray_to(obj, vertex):

@@ -143,8 +143,8 @@ def hover_source(index):
 
 def record_hover(label):
     def run():
-        from paramorph import ops_pins
-        picker = ops_pins.active
+        from paramorph import pin_store
+        picker = pin_store.active_picker
         stats[label]["hover"] = list(picker.hover) if picker is not None and picker.hover else None
         stats[label]["pending"] = list(picker.pending) if picker is not None and picker.pending else None
     return run
@@ -177,9 +177,9 @@ def key(kind, **modifiers):
 
 def record(label):
     def run():
-        from paramorph import ops_pins
+        from paramorph import pin_store
         stats.setdefault(label, {})
-        stats[label].update({"pins": pins(), "active": ops_pins.active is not None})
+        stats[label].update({"pins": pins(), "active": pin_store.active_picker is not None})
     return run
 
 
