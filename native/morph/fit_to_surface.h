@@ -30,8 +30,9 @@
 //      12 halvings they stay where they are for the round.
 // After the schedule's rounds, softer rounds go on while they still come
 // closer (up to twice as many). The round with the smallest sampled
-// two-sided distance is returned, so the fit never ends farther from B than
-// it started. Every weight is a share of an area: a turn, scale or shift of
+// two-sided distance is kept, so the fit never ends farther from B than it
+// started; then its pleats are smoothed along B within that distance
+// (morph/smooth_pleats.h). Every weight is a share of an area: a turn, scale or shift of
 // both meshes gives the same answer, moved with them.
 #pragma once
 
@@ -56,6 +57,10 @@ struct FitToSurfaceOptions {
   /// longer (the cat onto the horned cow 3.6 -> 1.8 %).
   double stiffness = 1.0;
   double stiffness_decay = 0.95;
+  /// Then up to this many passes smooth the pleats (faces folded over on B)
+  /// along B's surface, never ending farther from B (morph/smooth_pleats.h).
+  /// 0: none.
+  int smooth_pleats = 20;
 };
 
 struct FitToSurface {
@@ -67,11 +72,13 @@ struct FitToSurface {
   /// point to their centre (pleats and wrinkles the distance does not see),
   /// at the start and for `positions`.
   double facing_away_before = 0.0, facing_away_after = 0.0;
+  Index pleat_moves = 0;         ///< vertex moves the pleat smoothing kept (all passes)
 };
 
 /// X, F: A's mesh as it lies on B (#V by 3, #F by 3); VB, FB: the target B.
 /// held: vertices of A that do not move. InvalidInputError for malformed
-/// arrays, a held index out of range, rounds < 0, patience < 0, a negative
+/// arrays, a held index out of range, rounds < 0, patience < 0,
+/// smooth_pleats < 0, a negative
 /// or non-finite stiffness or a decay outside (0, 1]. progress: 0..1 over
 /// the rounds; cancel throws Cancelled.
 FitToSurface fit_to_surface(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,

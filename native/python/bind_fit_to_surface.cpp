@@ -20,6 +20,8 @@ void bind_fit_to_surface(py::module_& m) {
       .def_readonly("facing_away_before", &morph::FitToSurface::facing_away_before,
                     "share of the faces whose normal points against the target's under their centre, at the start")
       .def_readonly("facing_away_after", &morph::FitToSurface::facing_away_after, "the same for positions")
+      .def_readonly("pleat_moves", &morph::FitToSurface::pleat_moves,
+                    "vertex moves the pleat smoothing kept (all passes; 0 when it found none or was off)")
       .def("__repr__", [](const morph::FitToSurface& r) {
         return "<FitToSurface rounds=" + std::to_string(r.rounds) + " distance " + std::to_string(r.distance_before) +
                " -> " + std::to_string(r.distance_after) + ">";
@@ -27,7 +29,7 @@ void bind_fit_to_surface(py::module_& m) {
   m.def(
       "fit_to_surface",
       [](const py::object& X, const py::object& F, const py::object& VB, const py::object& FB, const py::object& held,
-         int rounds, int patience, double stiffness, double stiffness_decay, py::object progress) {
+         int rounds, int patience, double stiffness, double stiffness_decay, int smooth_pleats, py::object progress) {
         const MatrixX3d x = to_vertices(X, "X"), vb = to_vertices(VB, "VB");
         const MatrixX3i f = to_faces(F, "F"), fb = to_faces(FB, "FB");
         const std::vector<Index> kept = to_indices(held, "held");
@@ -37,12 +39,13 @@ void bind_fit_to_surface(py::module_& m) {
         options.patience = patience;
         options.stiffness = stiffness;
         options.stiffness_decay = stiffness_decay;
+        options.smooth_pleats = smooth_pleats;
         PythonProgress bridge(std::move(progress));
         return run_without_gil(bridge, [&] { return morph::fit_to_surface(x, f, vb, fb, h, options, bridge.get()); });
       },
       py::arg("X"), py::arg("F"), py::arg("VB"), py::arg("FB"), py::kw_only(), py::arg("held") = py::none(),
       py::arg("rounds") = 150, py::arg("patience") = 20, py::arg("stiffness") = 1.0, py::arg("stiffness_decay") = 0.95,
-      py::arg("progress") = py::none(),
+      py::arg("smooth_pleats") = 20, py::arg("progress") = py::none(),
       R"doc(Moves a mesh of fixed connectivity lying on a target surface so the two lie close both ways
 (Keep Source's Topology: A's vertices at their corresponding points on B, then fitted).
 
@@ -52,8 +55,10 @@ closest points on X (where the normals agree), with the change of each edge
 penalised by `stiffness` (times `stiffness_decay` each round); after `rounds`,
 rounds go on while the last `patience` came closer, up to 2 x rounds. held: vertices
 that stay exactly where they are (pins, matched tips). A step that would turn
-a face over is halved; one that cannot ends the fit. Returns FitToSurface with
-the round closest to B both ways (never farther than X). Turning, scaling or
+a face over is halved; one that cannot ends the fit. The round closest to B
+both ways is kept (never farther than X); then up to `smooth_pleats` passes
+move the vertices of faces folded over on B (normal against B's) along B's
+surface, never ending farther from B (0: none). Returns FitToSurface. Turning, scaling or
 moving both meshes moves the answer with them.)doc");
 }
 

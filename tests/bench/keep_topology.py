@@ -1,6 +1,6 @@
 """How close a kept topology comes to the target (issue 31), JSON lines:
 
-    /usr/bin/python3 tests/bench/keep_topology.py [--pairs "spot>cat,..."] [--placements]
+    /usr/bin/python3 tests/bench/keep_topology.py [--pairs "spot>cat,..."] [--placements] [--smooth-pleats N]
 
 Morph To with Keep Source's Topology puts the source's own vertices on the
 target through the correspondence, then fits them to the target both ways
@@ -14,7 +14,8 @@ shape to the target as a share of the target's bounding-box diagonal, before
 and after the fit, the share of faces turned over at t = 1/2 (as rigid as
 possible in-betweens), the share of faces whose normal points against the
 target's under their centre (pleats and wrinkles the distance does not see)
-before and after the fit, and the seconds each step took.
+before and after the fit (--smooth-pleats 0: without the fit's pleat
+smoothing, to compare), and the seconds each step took.
 With --placements, each pair again with the source placed as a user's scene
 might have it (turned about the up axis beside the target, facing away and
 twice the size, tilted), and the whole scene turned, scaled and moved (the
@@ -104,7 +105,7 @@ def landmark_misses(a, b, sampled, VB, diagonal):
             for name in of_a if name in of_b}
 
 
-def keep(VA, FA, VB, FB, record):
+def keep(VA, FA, VB, FB, record, smooth_pleats=20):
     """Morph, then the fit; adds seconds and figures to record."""
     start = time.perf_counter()
     morph = pm.morph(VA, FA, VB, FB)
@@ -112,10 +113,11 @@ def keep(VA, FA, VB, FB, record):
     sampled = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
     held = np.unique(np.asarray(morph.pairs, dtype=np.int64).reshape(-1, 2)[:, 0])
     start = time.perf_counter()
-    fit = pm.fit_to_surface(sampled, FA, VB, FB, held=held)
+    fit = pm.fit_to_surface(sampled, FA, VB, FB, held=held, smooth_pleats=smooth_pleats)
     record["fit_seconds"] = round(time.perf_counter() - start, 1)
     record["facing_away_before"] = round(fit.facing_away_before, 4)
     record["facing_away_after"] = round(fit.facing_away_after, 4)
+    record["pleat_moves"] = fit.pleat_moves
     return sampled, np.asarray(fit.positions)
 
 
@@ -123,6 +125,8 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--pairs", help="comma-separated a>b (default: " + ",".join(PAIRS) + ")")
     parser.add_argument("--placements", action="store_true", help="also with the source or the scene turned")
+    parser.add_argument("--smooth-pleats", type=int, default=20,
+                        help="passes of the fit's pleat smoothing (0: none)")
     args = parser.parse_args()
     if not MODELS.exists():
         emit({"bench": "keep_topology", "skipped": f"no models folder at {MODELS}"})
@@ -140,7 +144,7 @@ def main():
         record = {"bench": "keep_topology", "pair": f"{a} -> {b}", "source_vertices": len(VA),
                   "target_faces": len(FB)}
         diagonal = np.linalg.norm(np.ptp(VB, axis=0))
-        sampled, end = keep(VA, FA, VB, FB, record)
+        sampled, end = keep(VA, FA, VB, FB, record, args.smooth_pleats)
         record["hausdorff_before"] = share(pm.surface_distance(sampled, FA, VB, FB), VB)
         record["hausdorff_after"] = share(pm.surface_distance(end, FA, VB, FB), VB)
         record["turned_half_way_before"] = turned_half_way(VA, FA, sampled)
@@ -152,7 +156,7 @@ def main():
         for name, (RA, sA, tA), (R, s, t) in placements(diagonal):
             placed = {"bench": "keep_topology", "pair": f"{a} -> {b}", "placement": name}
             A, B = s * (sA * VA @ RA.T + tA) @ R.T + t, s * VB @ R.T + t
-            sampled, end = keep(A, FA, B, FB, placed)
+            sampled, end = keep(A, FA, B, FB, placed, args.smooth_pleats)
             for when, X in (("before", sampled), ("after", end)):
                 placed[f"hausdorff_{when}"] = round(float(pm.surface_distance(X, FA, B, FB).hausdorff / (s * diagonal)), 4)
                 placed[f"turned_half_way_{when}"] = turned_half_way(A, FA, X)

@@ -107,6 +107,7 @@ TEST(FitToSurface, NoRoundsOrAllHeldLeavesTheMeshAsItWas) {
   const Case c = horned_case();
   morph::FitToSurfaceOptions none;
   none.rounds = 0;
+  none.smooth_pleats = 0;
   const morph::FitToSurface zero = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), none);
   EXPECT_EQ(zero.positions, c.X);
   EXPECT_EQ(zero.rounds, 0);
@@ -139,6 +140,7 @@ TEST(FitToSurface, CountsTheFacesThatPointAgainstTheTarget) {
   const Case c = horned_case();
   morph::FitToSurfaceOptions none;
   none.rounds = 0;
+  none.smooth_pleats = 0;  // the count alone
   const morph::FitToSurface same = morph::fit_to_surface(c.VB, c.FB, c.VB, c.FB, VectorXi(), none);
   EXPECT_EQ(same.facing_away_before, 0.0);
   MatrixX3i pleated = c.FB;
@@ -152,6 +154,56 @@ TEST(FitToSurface, CountsTheFacesThatPointAgainstTheTarget) {
   EXPECT_EQ(turned.facing_away_after, turned.facing_away_before);  // no rounds: the same mesh
 }
 
+TEST(FitToSurface, SmoothsAPleatAlongTheTargetNeverFarther) {
+  // A finer sphere on the horned target, one vertex on the side away from
+  // the horn pushed along the surface past the far edge of one of its faces:
+  // that face and its neighbours fold over (a pleat). With no rounds, the
+  // smoothing alone unfolds it, moving along B (no farther from B than
+  // before: the horn, which A does not reach, bounds the distance), and the
+  // held vertex beside the pleat stays exactly where it was.
+  const Case horned = horned_case();
+  auto [S, F] = test_meshes::icosphere(3);
+  const Eigen::RowVector3d stretch(1.0, 0.8, 0.65);
+  // The horn's direction, as horned_case puts it (the centre of the coarse sphere's face 0).
+  auto [C, FC] = test_meshes::icosphere(1);
+  const Eigen::RowVector3d towards = ((C.row(FC(0, 0)) + C.row(FC(0, 1)) + C.row(FC(0, 2))) / 3.0).normalized();
+  auto on_target = [&](const Eigen::RowVector3d& d) {
+    const Eigen::RowVector3d u = d.normalized();
+    return Eigen::RowVector3d((u * horned_radius(u, towards)).array() * stretch.array());
+  };
+  MatrixX3d X(S.rows(), 3);
+  for (Index i = 0; i < Index(S.rows()); ++i) X.row(i) = on_target(S.row(i));
+  Index away_from_horn = 0;
+  (S * towards.transpose()).minCoeff(&away_from_horn);
+  Index face = 0;
+  while (F(face, 0) != away_from_horn && F(face, 1) != away_from_horn && F(face, 2) != away_from_horn) ++face;
+  Index a = -1, b = -1;
+  for (int k = 0; k < 3; ++k)
+    if (F(face, k) != away_from_horn) (a < 0 ? a : b) = F(face, k);
+  const Eigen::RowVector3d middle = 0.5 * (S.row(a) + S.row(b));
+  X.row(away_from_horn) = on_target(S.row(away_from_horn) + 1.4 * (middle - S.row(away_from_horn)));
+  VectorXi held(1);
+  held << a;
+
+  morph::FitToSurfaceOptions smoothing_only;
+  smoothing_only.rounds = 0;
+  smoothing_only.smooth_pleats = 0;
+  const morph::FitToSurface off = morph::fit_to_surface(X, F, horned.VB, horned.FB, held, smoothing_only);
+  ASSERT_GT(off.facing_away_before, 0.0);  // the pleat is there
+  EXPECT_EQ(off.facing_away_after, off.facing_away_before);
+  EXPECT_EQ(off.pleat_moves, 0);
+  EXPECT_EQ(off.positions, X);
+
+  smoothing_only.smooth_pleats = 20;
+  const morph::FitToSurface on = morph::fit_to_surface(X, F, horned.VB, horned.FB, held, smoothing_only);
+  EXPECT_GT(on.pleat_moves, 0);
+  EXPECT_EQ(on.facing_away_after, 0.0) << "from " << on.facing_away_before;
+  EXPECT_LE(on.distance_after, on.distance_before);
+  EXPECT_EQ(on.positions.row(a), X.row(a));
+  // The exact two-sided distance (not only the fit's sampled one) no larger.
+  EXPECT_LE(two_sided(on.positions, F, horned.VB, horned.FB), two_sided(X, F, horned.VB, horned.FB) * (1 + 1e-9));
+}
+
 TEST(FitToSurface, RefusesBadInput) {
   const Case c = horned_case();
   auto with = [](auto set) {
@@ -163,6 +215,8 @@ TEST(FitToSurface, RefusesBadInput) {
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.rounds = -1; })),
                InvalidInputError);
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.patience = -1; })),
+               InvalidInputError);
+  EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.smooth_pleats = -1; })),
                InvalidInputError);
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.stiffness = NAN; })),
                InvalidInputError);

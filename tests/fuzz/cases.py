@@ -51,7 +51,8 @@ NAN, INF = float("nan"), float("inf")
 # Keyword options that bound the work a call does (iterations, steps, rings): a
 # huge value makes a long run the caller asked for, so a timeout with one over
 # 1e5 is reported apart ("slow_budget"), not as a hang.
-BUDGET_OPTIONS = ("rounds", "max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations", "samples")
+BUDGET_OPTIONS = ("rounds", "max_iterations", "max_steps", "steps", "max_rings", "max_outer_iterations", "samples",
+                  "smooth_pleats")
 
 
 def public_callables(module):
@@ -937,7 +938,8 @@ def gen_signed_distance(g):
     return (m.V, m.F, g.points(int(g.rng.integers(1, 20)))), {}
 
 
-FIT_OPTIONS = {"rounds": ("int", 0, 12), "stiffness": ("float", 0.0, 10.0), "stiffness_decay": ("float", 0.01, 1.0)}
+FIT_OPTIONS = {"rounds": ("int", 0, 12), "stiffness": ("float", 0.0, 10.0), "stiffness_decay": ("float", 0.01, 1.0),
+               "smooth_pleats": ("int", 0, 20)}
 
 
 def gen_fit_to_surface(g):
