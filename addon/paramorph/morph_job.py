@@ -41,10 +41,13 @@ class MorphOutcome:
     shapes: list              # [(M, 3)] the in-betweens at key_times(...)[:-1]
     # Keeping the source's topology: target and shapes are then (#VA, 3), A's
     # own vertices; `distance` (paramorph_native.SurfaceDistance) from that
-    # t = 1 shape to the target, and the target's diagonal, both in B's frame.
+    # t = 1 shape to the target, and the target's diagonal, both in B's frame;
     keep_topology: bool = False
     distance: object = None
     target_diagonal: float = 0.0
+    # The share of its faces left folded against the target's (pleats that
+    # shade as creases; FitToSurface.facing_away_after).
+    folded: float = 0.0
     # With Repair: the two meshes as mended (repair_mesh.Repaired), else None.
     # The merged topology is then built on them; a kept topology's shapes are
     # already back on A's own vertices.
@@ -136,10 +139,11 @@ def morph_with_in_betweens(VA, FA, VB, FB, *, progress, in_betweens=0, interpola
         # B both ways (its legs, tail and muzzle get their share), the pins
         # and matched tips held where they are.
         held = np.unique(np.asarray(result.pairs, dtype=np.int64).reshape(-1, 2)[:, 0])
-        target = np.asarray(native.fit_to_surface(
-            target, faces, VB, FB, held=held,
-            progress=lambda f, stage: progress(fitted + (share - fitted) * f, stage)).positions)
+        fit = native.fit_to_surface(target, faces, VB, FB, held=held,
+                                    progress=lambda f, stage: progress(fitted + (share - fitted) * f, stage))
+        target = np.asarray(fit.positions)
         outcome.keep_topology = True
+        outcome.folded = fit.facing_away_after
         outcome.distance = native.surface_distance(  # seconds on 100k faces: reports, so Esc acts
             target, faces, VB, FB, progress=lambda f, stage: progress(share, "checking the end shape"))
         own = np.asarray(VB, dtype=np.float64) @ (np.eye(3) if target_turn is None else np.asarray(target_turn))

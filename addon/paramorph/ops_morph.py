@@ -468,6 +468,9 @@ last_morph = None
 # the target's facets, vertices spread unevenly by the correspondence);
 # a horse onto a cow, whose horns it has no vertices for: 2.2 %.
 COARSE_SHARE = 0.02
+# A kept topology with more of its faces than this folded against the target
+# gets a note: they shade as creases (Merged has none).
+FOLDED_SHARE = 0.01
 
 
 def keeps_topology(obj):
@@ -489,9 +492,12 @@ def keep_report(source, target, outcome, previewed=False, repaired=()):
     how = "previewed pairs" if previewed else "chosen"
     held = f"{_count(pins, 'pin')} and {_count(pairs, 'pair')} held exactly"
     notes = inside_out_note(result, source, target) + list(repaired) + fallback_notes(result, source, target)
+    if outcome.folded > FOLDED_SHARE:
+        notes.append(f"{100 * outcome.folded:.2g} % of its faces lie folded against the target (they shade as "
+                     "creases; Topology: Merged has none)")
     keys = len(outcome.shapes) + 1
     last_morph = {"object": source.name, "chosen": f"{how} {candidate_line(chosen)}", "held": held, "notes": notes,
-                  "hausdorff": share}
+                  "hausdorff": share, "folded": outcome.folded}
     line = (f"Morph To: {source.name} keeps its topology ({len(source.data.vertices)} vertices), "
             f"{_count(keys, 'shape key')} to {target.name}; {how} {candidate_line(chosen)}; {held}; "
             f"Hausdorff distance to the target {100 * share:.2g} % of its diagonal"

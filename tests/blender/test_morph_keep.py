@@ -9,7 +9,7 @@ import pytest
 from mathutils import Quaternion
 
 import make_samples
-from paramorph import bridge
+from paramorph import bridge, ops_morph
 from paramorph.morph_object import MORPH_PROPERTY
 from paramorph.native import native
 
@@ -95,8 +95,12 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     morph = native.morph(VA, FA, VB, FB)
     sampled = np.asarray(morph.target)[np.asarray(morph.vertex_of_a)]
     held = np.unique(np.asarray(morph.pairs, dtype=np.int64).reshape(-1, 2)[:, 0])
-    expected = np.asarray(native.fit_to_surface(sampled, FA, VB, FB, held=held).positions)
+    fit = native.fit_to_surface(sampled, FA, VB, FB, held=held)
+    expected = np.asarray(fit.positions)
     end = coordinates(blocks["Blob"].data)
+    # The faces left folded against the target are reported (noted over 1 %).
+    assert ops_morph.last_morph["folded"] == pytest.approx(fit.facing_away_after)
+    assert ("folded against the target" in out) == (fit.facing_away_after > ops_morph.FOLDED_SHARE), out
     scale = np.ptp(VB, axis=0).max()
     assert np.abs(end - expected).max() < 1e-4 * scale
     np.testing.assert_allclose(end[held], sampled[held], atol=1e-5 * scale)
@@ -138,7 +142,8 @@ def test_a_rigged_source_keeps_its_rig_and_deforms_with_it(capfd):
     assert len(source.data.shape_keys.animation_data.drivers) == 2
 
 
-def test_a_target_finer_than_the_source_is_warned_about_not_refused(capfd):
+def test_a_target_finer_than_the_source_is_warned_about_not_refused(capfd, monkeypatch):
+    monkeypatch.setattr(ops_morph, "FOLDED_SHARE", -1.0)  # the folded faces' note whatever their share
     source = make_samples.build_blob(name="Coarse", subdivisions=1)
     target = make_samples.build_octopus(name="Octopus", subdivisions=4, limbs=6)
     target.location = (4.0, 0.0, 0.0)
@@ -146,6 +151,7 @@ def test_a_target_finer_than_the_source_is_warned_about_not_refused(capfd):
     assert bpy.ops.paramorph.morph_to(topology="KEEP", in_betweens=2) == {"FINISHED"}
     out, _ = capfd.readouterr()
     assert "Coarse is too coarse for Octopus's detail" in out and "Topology: Merged" in out, out
+    assert f"{100 * ops_morph.last_morph['folded']:.2g} % of its faces lie folded against the target" in out, out
     assert [k.name for k in source.data.shape_keys.key_blocks] == ["Basis", "Octopus 33%", "Octopus 67%", "Octopus"]
 
 
