@@ -41,7 +41,7 @@ class MorphOutcome:
     shapes: list              # [(M, 3)] the in-betweens at key_times(...)[:-1]
     # Keeping the source's topology: target and shapes are then (#VA, 3), A's
     # own vertices; `distance` (paramorph_native.SurfaceDistance) from that
-    # t = 1 shape to the target, and the target's diagonal, both in B's frame;
+    # t = 1 shape to the target, and the target's diagonal, both in B's frame.
     keep_topology: bool = False
     distance: object = None
     target_diagonal: float = 0.0
