@@ -1,14 +1,11 @@
 #include "mesh/vertex_normals.h"
 
-#include <Eigen/Geometry>
-
 namespace paramorph {
 
 MatrixX3d area_weighted_vertex_normals(const MatrixX3d& V, const MatrixX3i& F) {
   MatrixX3d N = MatrixX3d::Zero(V.rows(), 3);
   for (Index f = 0; f < Index(F.rows()); ++f) {
-    const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a);  // twice the area times the unit normal
+    const Eigen::RowVector3d n = face_normal(V, F, f);  // twice the area times the unit normal
     for (int k = 0; k < 3; ++k) N.row(F(f, k)) += n;
   }
   for (Index v = 0; v < Index(V.rows()); ++v) {

@@ -1,7 +1,6 @@
 // Two-sided fit of a kept topology to the target's surface (morph/fit_to_surface.h).
 #include "morph/fit_to_surface.h"
 
-#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -43,11 +42,6 @@ std::vector<std::array<double, 3>> barycentric_grid(int steps) {
     for (int j = 0; i + j <= steps; ++j)
       out.push_back({double(i) / steps, double(j) / steps, double(steps - i - j) / steps});
   return out;
-}
-
-Eigen::RowVector3d face_normal(const MatrixX3d& V, const MatrixX3i& F, Index f) {
-  const Eigen::RowVector3d a = V.row(F(f, 0));
-  return (V.row(F(f, 1)) - a).cross(V.row(F(f, 2)) - a);
 }
 
 /// The least-squares system of one round over the free vertices: the
@@ -301,6 +295,11 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     return m;
   };
 
+  // The face of A's sample k in a measurement (the grid's, then the large faces').
+  auto face_of_sample = [&](const Measured& m, Index k) {
+    return k < on_grid ? k / per_face : m.fine_face[k - on_grid];
+  };
+
   // A's faces whose normal points against B's under their centre.
   auto facing_away = [&](const MatrixX3d& P) {
     const std::vector<char> away = faces_facing_away(P, F, target_tree, VB, FB, source_side);
@@ -349,7 +348,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     std::vector<int> samples_of(F.rows(), int(per_face));
     for (const Index f : now.fine_face) ++samples_of[f];
     const Index fine = Index(now.fine_face.size());
-    auto face_of = [&](Index k) { return k < on_grid ? k / per_face : now.fine_face[k - on_grid]; };
+    auto face_of = [&](Index k) { return face_of_sample(now, k); };
     VectorXd sample_weight(on_grid + fine);
     for (Index k = 0; k < on_grid + fine; ++k)
       sample_weight(k) = face_share(face_of(k)) / double(samples_of[face_of(k)]);
@@ -425,22 +424,17 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
     // them free doubles the pleats left on the cow onto the horned cow).
     std::vector<char> fixed(X.rows(), 0);
     for (Index v = 0; v < Index(X.rows()); ++v) fixed[v] = free_index[v] < 0;
-    {
-      const Measured& m = fitted;
-      const double far = kFixedNearFar * m.distance;
-      std::vector<char> near_far(X.rows(), 0);
-      for (Index k = 0; k < Index(m.on_target.distance.size()); ++k)
-        if (m.on_target.distance(k) > far) {
-          const Index f = k < on_grid ? k / per_face : m.fine_face[k - on_grid];
-          for (int c = 0; c < 3; ++c) near_far[F(f, c)] = 1;
-        }
-      for (Index k = 0; k < Index(m.on_source.distance.size()); ++k)
-        if (m.on_source.distance(k) > far)
-          for (int c = 0; c < 3; ++c) near_far[F(m.on_source.face(k), c)] = 1;
-      for (Index f = 0; f < Index(F.rows()); ++f)
-        if (near_far[F(f, 0)] || near_far[F(f, 1)] || near_far[F(f, 2)])
-          for (int c = 0; c < 3; ++c) fixed[F(f, c)] = 1;
-    }
+    const double far = kFixedNearFar * fitted.distance;
+    std::vector<char> near_far(X.rows(), 0);
+    for (Index k = 0; k < Index(fitted.on_target.distance.size()); ++k)
+      if (fitted.on_target.distance(k) > far)
+        for (int c = 0; c < 3; ++c) near_far[F(face_of_sample(fitted, k), c)] = 1;
+    for (Index k = 0; k < Index(fitted.on_source.distance.size()); ++k)
+      if (fitted.on_source.distance(k) > far)
+        for (int c = 0; c < 3; ++c) near_far[F(fitted.on_source.face(k), c)] = 1;
+    for (Index f = 0; f < Index(F.rows()); ++f)
+      if (near_far[F(f, 0)] || near_far[F(f, 1)] || near_far[F(f, 2)])
+        for (int c = 0; c < 3; ++c) fixed[F(f, c)] = 1;
     // Each side within a thousandth of where the fit left it (B's samples
     // may not drift farther from A up to A's farthest sample: measured, that
     // took the lion onto the horned cow 3.65 -> 3.83 %), never past the start.

@@ -1,9 +1,10 @@
 // Pleats of a kept topology smoothed along the target (morph/smooth_pleats.h).
 #include "morph/smooth_pleats.h"
 
-#include <Eigen/Geometry>
-
 #include <cstddef>
+
+#include "mesh/tri_mesh.h"
+#include "mesh/vertex_normals.h"
 
 namespace paramorph::morph {
 
@@ -22,11 +23,6 @@ constexpr double kSameSheet = 0.5;
 /// vertices go back when a pass went past the limit.
 constexpr double kRevertRadius = 3.0;
 constexpr int kMostReverts = 20;
-
-Eigen::RowVector3d face_normal(const MatrixX3d& V, const MatrixX3i& F, Index f) {
-  const Eigen::RowVector3d a = V.row(F(f, 0));
-  return (V.row(F(f, 1)) - a).cross(V.row(F(f, 2)) - a);
-}
 
 MatrixX3d rows_of(const MatrixX3d& P, const std::vector<Index>& rows) {
   MatrixX3d out(rows.size(), 3);
@@ -52,9 +48,8 @@ SmoothedPleats smooth_pleats(MatrixX3d& P, const MatrixX3i& F, const ClosestPoin
                              std::vector<char>& fixed,
                              const std::function<Farthest(const MatrixX3d&)>& farthest, int passes,
                              Progress* progress) {
-  std::vector<std::vector<Index>> faces_of(P.rows());
-  for (Index f = 0; f < Index(F.rows()); ++f)
-    for (int k = 0; k < 3; ++k) faces_of[F(f, k)].push_back(f);
+  const TriMesh topology(P, F);  // its connectivity only: the passes do not change it
+  const Csr& ring = topology.vertex_neighbors();
   // B's normal at a closest point, blended from its vertex normals.
   auto normal_at = [&](const ClosestPoints& on, Index i) {
     const Index f = on.face(i);
@@ -75,11 +70,12 @@ SmoothedPleats smooth_pleats(MatrixX3d& P, const MatrixX3i& F, const ClosestPoin
     std::vector<char> grown = in_region;
     for (Index v = 0; v < Index(P.rows()); ++v)
       if (in_region[v])
-        for (const Index f : faces_of[v])
-          for (int k = 0; k < 3; ++k) grown[F(f, k)] = 1;
+        for (Index j = ring.begin(v); j < ring.end(v); ++j) grown[ring.items[j]] = 1;
+    // A vertex with no neighbour (in no face, or only in faces of it alone)
+    // has nowhere to move to.
     std::vector<Index> moving;
     for (Index v = 0; v < Index(P.rows()); ++v)
-      if (grown[v] && !fixed[v] && !faces_of[v].empty()) moving.push_back(v);
+      if (grown[v] && !fixed[v] && ring.size(v) > 0) moving.push_back(v);
     if (moving.empty()) break;
 
     const MatrixX3d previous = P;
@@ -90,19 +86,11 @@ SmoothedPleats smooth_pleats(MatrixX3d& P, const MatrixX3i& F, const ClosestPoin
       const Index v = moving[i];
       Eigen::RowVector3d centroid = Eigen::RowVector3d::Zero();
       double edge = 0.0;
-      int count = 0;
-      for (const Index f : faces_of[v])
-        for (int k = 0; k < 3; ++k)
-          if (F(f, k) != v) {
-            centroid += P.row(F(f, k));
-            edge += (P.row(F(f, k)) - P.row(v)).norm();
-            ++count;
-          }
-      if (count == 0) {  // only faces with all corners at v: nowhere to move to
-        proposal.row(Index(i)) = P.row(v);
-        ring_edge(Index(i)) = 0.0;
-        continue;
+      for (Index j = ring.begin(v); j < ring.end(v); ++j) {
+        centroid += P.row(ring.items[j]);
+        edge += (P.row(ring.items[j]) - P.row(v)).norm();
       }
+      const double count = double(ring.size(v));
       ring_edge(Index(i)) = edge / count;
       // The umbrella step in B's tangent plane where the vertex lies.
       const Eigen::RowVector3d n = normal_at(before, Index(i));
