@@ -14,7 +14,7 @@ bl_info = {
 
 
 _CLASS_MODULES = ("preferences", "ops_sphere", "ops_unwrap", "ops_segment", "ops_select", "ops_rank",
-                  "ops_morph", "ops_pins", "ops_paste", "menus", "panels", "overlay")
+                  "morph.operators", "morph.pins", "ops_paste", "menus", "panels", "overlay")
 
 
 def _modules():

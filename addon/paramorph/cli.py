@@ -621,7 +621,7 @@ def morph_main(args):
                       in_betweens=args.in_betweens, easing="LINEAR" if args.linear else "EASE",
                       interpolation="LINEAR" if args.straight else "ARAP", topology=args.topology.upper(),
                       automatic=args.automatic, use_preview=False, repair=args.repair)
-        summary = sys.modules[f"{package}.ops_morph"].last_morph
+        summary = sys.modules[f"{package}.morph.operators"].last_morph
         result = bpy.data.objects[summary["object"]]  # the new object, or A's own when its topology is kept
         keys = len(result.data.shape_keys.key_blocks) - 1
         print(f"{name}: {result.name}: {len(result.data.vertices)} vertices, {len(result.data.polygons)} faces, "

@@ -11,7 +11,8 @@ import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
-from . import pin_store, regions
+from . import regions
+from .morph import pin_store
 
 _handler = None
 # object name -> (mesh pointer, batches). Built once per geometry: a

@@ -67,7 +67,7 @@ def main():
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     addon_utils.enable("paramorph", default_set=True)
-    from paramorph import ops_morph
+    from paramorph.morph import operators as ops_morph
 
     recorder = RecordingNative(ops_morph.native)
     ops_morph.native = recorder

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 import make_samples
-from paramorph import jobs, ops_pins
-from paramorph.morph_object import MORPH_PROPERTY
+from paramorph import jobs
+from paramorph.morph.pins import PinPicker
+from paramorph.morph.result_object import MORPH_PROPERTY
 from paramorph.native import native
 
 pytestmark = pytest.mark.usefixtures("addon_scene")
@@ -380,11 +381,11 @@ def test_an_inside_out_target_is_turned_and_the_report_says_so(capfd):
 def test_pick_pins_picker_pins_the_vertices_under_the_rays_and_takes_them_back():
     """The Pick Pins tool's picking state, driven with rays as the modal tool
     drives it with the mouse (the modal tool itself: tests/gui)."""
-    from paramorph import pin_store
+    from paramorph.morph import pin_store
     source, target = morph_pair()
     a, b = tip_pin(source, target)
     matches = pin_store.claim(bpy.context.scene.paramorph_matches, source, target)
-    picker = ops_pins.PinPicker(source, target)
+    picker = PinPicker(source, target)
 
     def ray_to(obj, vertex):
         """A ray from far out along +x onto `vertex` of `obj`, in each object's coordinates."""

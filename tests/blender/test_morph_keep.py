@@ -9,8 +9,9 @@ import pytest
 from mathutils import Quaternion
 
 import make_samples
-from paramorph import bridge, ops_morph
-from paramorph.morph_object import MORPH_PROPERTY
+from paramorph import bridge
+from paramorph.morph import operators as ops_morph
+from paramorph.morph.result_object import MORPH_PROPERTY
 from paramorph.native import native
 
 pytestmark = pytest.mark.usefixtures("addon_scene")
@@ -159,7 +160,7 @@ def test_the_reported_distance_is_the_same_however_the_scene_is_turned():
     # The share is of the target's own box (target_turn: its object's
     # rotation), not of its turned copy's, which grows or shrinks with the
     # turn while the distance itself stays (the whole scene turned alike).
-    from paramorph import morph_job
+    from paramorph.morph import job as morph_job
 
     source = make_samples.build_octopus(name="Five", subdivisions=2, limbs=5)
     target = make_samples.build_octopus(name="Seven", subdivisions=4, limbs=7)

@@ -143,7 +143,7 @@ def hover_source(index):
 
 def record_hover(label):
     def run():
-        from paramorph import pin_store
+        from paramorph.morph import pin_store
         picker = pin_store.active_picker
         stats[label]["hover"] = list(picker.hover) if picker is not None and picker.hover else None
         stats[label]["pending"] = list(picker.pending) if picker is not None and picker.pending else None
@@ -177,7 +177,7 @@ def key(kind, **modifiers):
 
 def record(label):
     def run():
-        from paramorph import pin_store
+        from paramorph.morph import pin_store
         stats.setdefault(label, {})
         stats[label].update({"pins": pins(), "active": pin_store.active_picker is not None})
     return run

@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import repair_mesh
-from .native import native
+from .. import repair_mesh
+from ..native import native
 
 
 @dataclass

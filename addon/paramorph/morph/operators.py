@@ -1,7 +1,7 @@
 """Morphing operators (thesis ch. 4; issue 16). The source is the selected mesh,
 the target the active one.
 
-- "Pick Pins": a viewport tool; click a vertex of one object, then its partner
+- "Pick Pins" (morph/pins.py): a viewport tool; click a vertex of one object, then its partner
   on the other, and the morph takes the one exactly onto the other. "Add Pin"
   does the same from one selected vertex on each (Edit Mode) or from explicit
   indices (scripts).
@@ -17,9 +17,10 @@ succeeded."""
 import bpy
 import numpy as np
 
-from . import bridge, messages, morph_job, morph_object, overlay, poll_reasons, repair_mesh
-from .native import native
-from .native_operator import NativeOperator, UserError, numbering_for
+from .. import bridge, messages, overlay, poll_reasons, repair_mesh
+from ..native import native
+from ..native_operator import NativeOperator, UserError, numbering_for
+from . import job, result_object
 from .pin_store import add_pair, add_pin, claim, constraints, pin_array, two_objects
 
 
@@ -93,7 +94,7 @@ def repair_notes(fixed_a, fixed_b, source, target, riding=False):
 
 
 def parts_notes(parts, source):
-    """What became of the source's separate parts (morph_job.RidingParts):
+    """What became of the source's separate parts (job.RidingParts):
     "2 separate parts of Suzanne (68 vertices) ride along its body", those
     far from it that stay where they were, and which part was taken as the
     body when it holds under half of the source's vertices."""
@@ -202,7 +203,7 @@ class PARAMORPH_OT_preview_matches(_TwoMeshes, CorrespondenceSettings, bpy.types
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "pins": pins, "objects": [source.name, target.name]}
         options = dict(self.correspondence_options(), pins=pins, repair=self.repair)
-        return morph_job.correspondence, (VA, FA, VB, FB), options, state
+        return job.correspondence, (VA, FA, VB, FB), options, state
 
     def finish(self, context, outcome, state):
         result, fixed_a, fixed_b = outcome
@@ -427,7 +428,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         state = {"source": source.name, "target": target.name, "arrays_source": (VA, FA),
                  "arrays_target": (VB, FB), "tri_poly": tri_poly, "tri_loops": tri_loops,
                  "previewed": pairs is not None, "objects": [source.name, target.name]}
-        return morph_job.morph_with_in_betweens, (VA, FA, VB, FB), options, state
+        return job.morph_with_in_betweens, (VA, FA, VB, FB), options, state
 
     def finish(self, context, outcome, state):
         source, target = bpy.data.objects[state["source"]], bpy.data.objects[state["target"]]
@@ -435,7 +436,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         notes = (repair_notes(outcome.repaired_a, outcome.repaired_b, source, target, riding=True)
                  + parts_notes(outcome.parts, source))
         if outcome.keep_topology:
-            morph_object.add_morph_keys(context, source, outcome.shapes, outcome.target, target_name=target.name,
+            result_object.add_morph_keys(context, source, outcome.shapes, outcome.target, target_name=target.name,
                                         frame_start=self.frame_start, frame_end=self.frame_end,
                                         easing=self.easing == "EASE")
             report, coarse = keep_report(source, target, outcome, state["previewed"], notes)
@@ -445,7 +446,7 @@ class PARAMORPH_OT_morph_to(_TwoMeshes, CorrespondenceSettings, bpy.types.Operat
         tri_poly, tri_loops = state["tri_poly"], state["tri_loops"]
         if outcome.repaired_a is not None:  # the merged faces come from the mended source's triangles
             tri_poly, tri_loops = outcome.repaired_a.triangle_maps(tri_poly, tri_loops)
-        obj = morph_object.build(
+        obj = result_object.build(
             context, f"{source.name} to {target.name}", source, result, outcome.target, outcome.shapes,
             tri_poly=tri_poly, tri_loops=tri_loops, target_name=target.name, source_positions=outcome.source,
             frame_start=self.frame_start, frame_end=self.frame_end, easing=self.easing == "EASE",

@@ -6,9 +6,9 @@ that is running, if any, for the overlay to draw. It imports no operator
 module, so the operators and the overlay can all import it."""
 import numpy as np
 
-from .native_operator import UserError
+from ..native_operator import UserError
 
-# The Pick Pins session that is running (an ops_pins.PinPicker), else None:
+# The Pick Pins session that is running (a pins.PinPicker), else None:
 # the overlay draws its marks.
 active_picker = None
 

@@ -10,8 +10,8 @@ memberships, which Blender offers per vertex only."""
 import bpy
 import numpy as np
 
-from . import bridge
-from .morph_job import key_times
+from .. import bridge
+from .job import key_times
 
 # The object's custom property that drives the keys: 0 source, 1 target.
 MORPH_PROPERTY = "paramorph_morph"
@@ -196,7 +196,7 @@ def build(context, name, source, result, target_positions, shapes, *, tri_poly, 
     `target_name` = target_positions, driven by the object's morph property,
     which is keyframed from frame_start to frame_end. source_positions: the
     Basis in the source object's coordinates (default result.source).
-    parts: the source's separate parts riding along (morph_job.RidingParts,
+    parts: the source's separate parts riding along (job.RidingParts,
     with their positions), added after the merged mesh as they are in the
     source, with their own looks and vertex groups; source_triangles: (polygon
     per triangle, loops per triangle, vertices per triangle) of the source's

@@ -15,8 +15,9 @@ import numpy as np
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from . import bridge, overlay, pin_store, poll_reasons, view_ray
-from .native_operator import UserError
+from .. import bridge, overlay, poll_reasons, view_ray
+from ..native_operator import UserError
+from . import pin_store
 from .pin_store import add_pin, claim, restore, snapshot, two_objects
 
 SIDES = ("source", "target")
