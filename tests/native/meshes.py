@@ -40,12 +40,12 @@ def icosphere(subdivisions=2):
     """Unit icosphere: 20 * 4**subdivisions faces."""
     V, F = _icosahedron()
     for _ in range(subdivisions):
-        V, F = _subdivide(V, F)
+        V, F = subdivide(V, F)
         V /= np.linalg.norm(V, axis=1, keepdims=True)
     return V, F.astype(np.int32)
 
 
-def _subdivide(V, F):
+def subdivide(V, F):
     """Splits every triangle in four; midpoints shared through an edge key."""
     F = np.asarray(F, dtype=np.int64)
     edges = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
