@@ -29,7 +29,10 @@
 //      there (one tight spot does not hold the whole mesh back), and after
 //      12 halvings they stay where they are for the round.
 // After the schedule's rounds, softer rounds go on while they still come
-// closer (up to twice as many). The round with the smallest sampled
+// closer (up to twice as many). Where they end farther than 2 % of B's
+// diagonal, the rounds run again from A's faces evened out along its own
+// surface (morph/even_out_areas.h: a decimated source's vertices then reach
+// what its large faces spanned). The round with the smallest sampled
 // two-sided distance is kept, so the fit never ends farther from B than it
 // started; then its pleats are smoothed along B within that distance
 // (morph/smooth_pleats.h). Every weight is a share of an area: a turn, scale or shift of
@@ -57,7 +60,16 @@ struct FitToSurfaceOptions {
   /// longer (the cat onto the horned cow 3.6 -> 1.8 %).
   double stiffness = 1.0;
   double stiffness_decay = 0.95;
-  /// Then up to this many passes smooth the pleats (faces folded over on B)
+  /// Where the rounds end farther than 2 % of B's diagonal, they run again
+  /// from A's faces evened out by this many passes, each moving a vertex
+  /// this share of the way to its faces' area-weighted centroid
+  /// (morph/even_out_areas.h), and the closer end is kept: a decimated
+  /// source's vertices reach the parts of B its large faces spanned (the
+  /// lion onto the horned cow 3.65 -> 1.86 %). Only then: spot onto the
+  /// horned cow ends at 1.66 % from X, 3.06 % from its faces evened. 0: never.
+  int even_out_passes = 30;
+  double even_out_step = 0.5;
+  /// After the rounds, up to this many passes smooth the pleats (faces folded over on B)
   /// along B's surface, never ending farther from B (morph/smooth_pleats.h).
   /// 0: none.
   int smooth_pleats = 20;
@@ -65,7 +77,7 @@ struct FitToSurfaceOptions {
 
 struct FitToSurface {
   MatrixX3d positions;           ///< #V by 3: the fitted vertices
-  int rounds = 0;                ///< rounds that stepped (the schedule's and any after)
+  int rounds = 0;                ///< rounds that stepped (the schedule's and any after; both runs' when it ran again)
   double distance_before = 0.0;  ///< sampled two-sided distance (largest over the samples) at the start
   double distance_after = 0.0;   ///< the same for `positions`
   /// Share of A's faces whose normal points against B's at the closest
@@ -78,7 +90,7 @@ struct FitToSurface {
 /// X, F: A's mesh as it lies on B (#V by 3, #F by 3); VB, FB: the target B.
 /// held: vertices of A that do not move. InvalidInputError for malformed
 /// arrays, a held index out of range, rounds < 0, patience < 0,
-/// smooth_pleats < 0, a negative
+/// even_out_passes < 0, even_out_step outside (0, 1], smooth_pleats < 0, a negative
 /// or non-finite stiffness or a decay outside (0, 1]. progress: 0..1 over
 /// the rounds; cancel throws Cancelled.
 FitToSurface fit_to_surface(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3d& VB, const MatrixX3i& FB,

@@ -125,6 +125,7 @@ TEST(FitToSurface, GoesOnPastTheScheduleWhileItComesCloser) {
   morph::FitToSurfaceOptions short_schedule;
   short_schedule.rounds = 10;
   short_schedule.patience = 0;
+  short_schedule.even_out_passes = 0;  // one run: its rounds alone
   const morph::FitToSurface plain = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), short_schedule);
   short_schedule.patience = 5;
   const morph::FitToSurface patient = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), short_schedule);
@@ -132,6 +133,24 @@ TEST(FitToSurface, GoesOnPastTheScheduleWhileItComesCloser) {
   EXPECT_GT(patient.rounds, 10);
   EXPECT_LE(patient.rounds, 20);
   EXPECT_LT(patient.distance_after, plain.distance_after);
+}
+
+TEST(FitToSurface, EndingFarItRunsAgainFromEvenedFacesAndKeepsTheCloser) {
+  // 10 rounds end short of the horn (over 2 % of the diagonal): the rounds
+  // run again from A's faces evened out, and the closer end is kept.
+  const Case c = horned_case();
+  morph::FitToSurfaceOptions once;
+  once.rounds = 10;
+  once.patience = 0;
+  once.even_out_passes = 0;
+  const morph::FitToSurface plain = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), once);
+  const double diagonal = (c.VB.colwise().maxCoeff() - c.VB.colwise().minCoeff()).norm();
+  ASSERT_GT(plain.distance_after, 0.02 * diagonal);
+  morph::FitToSurfaceOptions again = once;
+  again.even_out_passes = 30;
+  const morph::FitToSurface evened = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), again);
+  EXPECT_EQ(evened.rounds, 2 * plain.rounds);
+  EXPECT_LE(evened.distance_after, plain.distance_after);
 }
 
 TEST(FitToSurface, CountsTheFacesThatPointAgainstTheTarget) {
@@ -217,6 +236,12 @@ TEST(FitToSurface, RefusesBadInput) {
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.patience = -1; })),
                InvalidInputError);
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.smooth_pleats = -1; })),
+               InvalidInputError);
+  EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.even_out_passes = -1; })),
+               InvalidInputError);
+  EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.even_out_step = 0; })),
+               InvalidInputError);
+  EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.even_out_step = 1.5; })),
                InvalidInputError);
   EXPECT_THROW(morph::fit_to_surface(c.X, c.F, c.VB, c.FB, none, with([](auto& o) { o.stiffness = NAN; })),
                InvalidInputError);
