@@ -105,7 +105,12 @@ def test_bad_arrays_are_refused(kept):
 MODELS = Path(__file__).resolve().parents[3] / "shared" / "models"
 
 
-@pytest.mark.skipif(not (MODELS / "dancer.obj").exists(), reason="no ../shared/models")
+def needs_models(*names):
+    """Skip unless every one of these models is in ../shared/models."""
+    missing = [n for n in names if not (MODELS / f"{n}.obj").exists()]
+    return pytest.mark.skipif(bool(missing), reason=f"no {', '.join(missing)} in ../shared/models")
+
+
 def real_kept(a, b):
     """A's vertices where the morph's correspondence puts them on B (B
     subdivided to 50k faces or more, as the issue's figure asks), and the
@@ -122,6 +127,7 @@ def real_kept(a, b):
     return VA, FA, VB, FB, X, held
 
 
+@needs_models("spot", "dancer")
 def test_pleats_are_smoothed_where_the_large_faces_outrun_their_sample_budget():
     # Spot (2,930 vertices) onto the dancer subdivided to 56k faces: more of
     # spot's faces are large than the budget of finer samples holds, and
@@ -140,7 +146,7 @@ def test_pleats_are_smoothed_where_the_large_faces_outrun_their_sample_budget():
     assert after < 1.1 * before, (before, after)
 
 
-@pytest.mark.skipif(not (MODELS / "lion.obj").exists(), reason="no ../shared/models")
+@needs_models("lion", "horned-cow")
 def test_a_decimated_source_ending_far_runs_again_from_evened_faces_and_keeps_the_closer_end():
     # The lion (5,000 vertices, its faces on the cow from a quarter of the
     # mean to fifty times it) onto the horned cow (93k faces): one run ends
