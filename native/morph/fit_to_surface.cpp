@@ -13,6 +13,7 @@
 #include "common/supernodal_cholesky.h"
 #include "mesh/closest_points.h"
 #include "mesh/signed_volume.h"
+#include "mesh/step_without_turning.h"
 #include "mesh/tri_mesh.h"
 #include "mesh/validate.h"
 #include "mesh/vertex_normals.h"
@@ -356,7 +357,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       // the start, returned the start (8.3 % of the diagonal).
       unreached = unreached || (last_gain == 0 && round >= kStalledRounds && b_unreached(now));
       RoundSystem system(current, free_index);
-      const MatrixX3d& before_normals = now.normals;  // also what the step may not turn over
+      const MatrixX3d& before_normals = now.normals;
       VectorXd face_share = before_normals.rowwise().norm();
       const double area = face_share.sum();
       if (!(area > 0)) break;
@@ -414,21 +415,11 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
         if (free_index[v] >= 0) proposed.row(v) = solved.row(free_index[v]);
 
       // Halve the step of the vertices around a face that would turn over,
-      // only there, so one tight spot does not slow the whole mesh; after
-      // kHalvings they stay where they are this round (a round in which no
-      // vertex can move ends the fit).
-      VectorXd step = VectorXd::Ones(X.rows());
-      MatrixX3d next;
-      for (int halving = 0;; ++halving) {
-        next = current + step.asDiagonal() * (proposed - current);
-        std::vector<Index> turned_faces;
-        for (Index f = 0; f < Index(F.rows()); ++f)
-          if (before_normals.row(f).squaredNorm() > 0 && face_normal(next, F, f).dot(before_normals.row(f)) <= 0)
-            turned_faces.push_back(f);
-        if (turned_faces.empty()) break;
-        for (const Index f : turned_faces)
-          for (int k = 0; k < 3; ++k) step(F(f, k)) = halving < kHalvings ? 0.5 * step(F(f, k)) : 0.0;
-      }
+      // only there (mesh/step_without_turning.h); after kHalvings they stay
+      // where they are this round (a round in which no vertex can move ends
+      // the fit).
+      VectorXd step;
+      const MatrixX3d next = step_without_turning(current, proposed - current, F, kHalvings, &step);
       if (!(step.maxCoeff() > 0)) break;
       current = next;
       ++out.rounds;
