@@ -61,7 +61,8 @@ rounds go on while the last `patience` came closer, up to 2 x rounds. Where
 they end farther than 2 % of the target's diagonal, they run again from X's
 faces evened out by `even_out_passes` passes (each moving a vertex
 `even_out_step` of the way to its faces' area-weighted centroid along X; 0:
-never), and the closer end is kept. held: vertices
+never), on a schedule of 2 x rounds (up to 4 x), and the closer end is kept.
+held: vertices
 that stay exactly where they are (pins, matched tips). A step that would turn
 a face over is halved; one that cannot ends the fit. The round closest to B
 both ways is kept (never farther than X); then up to `smooth_pleats` passes

@@ -149,7 +149,7 @@ TEST(FitToSurface, EndingFarItRunsAgainFromEvenedFacesAndKeepsTheCloser) {
   morph::FitToSurfaceOptions again = once;
   again.even_out_passes = 30;
   const morph::FitToSurface evened = morph::fit_to_surface(c.X, c.F, c.VB, c.FB, VectorXi(), again);
-  EXPECT_EQ(evened.rounds, 2 * plain.rounds);
+  EXPECT_EQ(evened.rounds, 3 * plain.rounds);  // its second run's schedule is twice the first's
   EXPECT_LE(evened.distance_after, plain.distance_after);
 }
 

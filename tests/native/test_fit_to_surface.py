@@ -151,17 +151,16 @@ def test_a_decimated_source_ending_far_runs_again_from_evened_faces_and_keeps_th
     # The lion (5,000 vertices, its faces on the cow from a quarter of the
     # mean to fifty times it) onto the horned cow (93k faces): one run ends
     # 3.4-3.9 % of the diagonal away, so the rounds run again from its faces
-    # evened out. That run came closer here (3.65 -> 1.86 % as computed,
-    # 3.47 -> 3.27 % and 3.70 -> 3.70 % from starts moved by 3e-7 and 1e-7 of
-    # the diagonal): the rounds are chaotic, so the test holds the rule, not
-    # a figure.
+    # evened out, on a schedule twice as long. That run ends at 1.7-1.9 %
+    # here, as computed and from starts moved by 1e-7 to 5e-7 of the diagonal
+    # (on the 150 rounds' schedule it had ended anywhere from 1.9 to 6.9 %).
     VA, FA, VB, FB, X, held = real_kept("lion", "horned-cow")
     once = pm.fit_to_surface(X, FA, VB, FB, held=held, even_out_passes=0)
     fit = pm.fit_to_surface(X, FA, VB, FB, held=held)
     P = np.asarray(fit.positions)
     diagonal = np.linalg.norm(np.ptp(VB, axis=0))
     assert once.distance_after > 0.02 * diagonal
-    assert fit.rounds > once.rounds  # it ran again
-    assert hausdorff(P, FA, VB, FB) <= 1.02 * hausdorff(np.asarray(once.positions), FA, VB, FB)
+    assert fit.rounds >= once.rounds + 2 * 150  # it ran again, the evened run's whole schedule
+    assert hausdorff(P, FA, VB, FB) <= 0.03 * diagonal  # the issue's bound; one run alone ends over it
     assert np.array_equal(P[held], X[held])
     assert inverted_share_turning(VA, P, pm.ShapeInterpolation(VA, P, FA).at(0.5), FA, 0.5) <= 0.001
