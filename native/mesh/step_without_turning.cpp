@@ -7,10 +7,9 @@
 
 namespace paramorph {
 
-MatrixX3d step_without_turning(const MatrixX3d& from, const MatrixX3d& move, const MatrixX3i& F, int halvings,
-                               VectorXd* shares) {
-  MatrixX3d before(F.rows(), 3);
-  for (Index f = 0; f < Index(F.rows()); ++f) before.row(f) = face_normal(from, F, f);
+MatrixX3d step_without_turning(const MatrixX3d& from, const MatrixX3d& from_normals, const MatrixX3d& move,
+                               const MatrixX3i& F, int halvings, VectorXd* shares) {
+  const MatrixX3d& before = from_normals;
   // Halving only around the faces that turn, so one tight spot does not
   // slow the whole mesh.
   VectorXd share = VectorXd::Ones(from.rows());

@@ -14,13 +14,14 @@ MatrixX3d even_out_areas(const MatrixX3d& X, const MatrixX3i& F, const std::vect
                          double step) {
   MatrixX3d P = X;
   const Index n = X.rows(), faces = F.rows();
-  MatrixX3d centroid_sum(n, 3), move(n, 3);
+  MatrixX3d face_normals(faces, 3), centroid_sum(n, 3), move(n, 3);
   VectorXd area_sum(n);
   for (int pass = 0; pass < passes; ++pass) {
     centroid_sum.setZero();
     area_sum.setZero();
     for (Index f = 0; f < faces; ++f) {
-      const double area = 0.5 * face_normal(P, F, f).norm();
+      face_normals.row(f) = face_normal(P, F, f);
+      const double area = 0.5 * face_normals.row(f).norm();
       const Eigen::RowVector3d centroid = (P.row(F(f, 0)) + P.row(F(f, 1)) + P.row(F(f, 2))) / 3.0;
       for (int k = 0; k < 3; ++k) {
         centroid_sum.row(F(f, k)) += area * centroid;
@@ -34,7 +35,7 @@ MatrixX3d even_out_areas(const MatrixX3d& X, const MatrixX3i& F, const std::vect
       const Eigen::RowVector3d d = step * (centroid_sum.row(v) / area_sum(v) - P.row(v));
       move.row(v) = d - d.dot(normals.row(v)) * normals.row(v);
     }
-    P = step_without_turning(P, move, F, kHalvings);
+    P = step_without_turning(P, face_normals, move, F, kHalvings);
   }
   return P;
 }

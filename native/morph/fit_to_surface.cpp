@@ -428,7 +428,7 @@ FitToSurface fit_in_frame(const MatrixX3d& X, const MatrixX3i& F, const MatrixX3
       // where they are this round (a round in which no vertex can move ends
       // the fit).
       VectorXd step;
-      const MatrixX3d next = step_without_turning(current, proposed - current, F, kHalvings, &step);
+      const MatrixX3d next = step_without_turning(current, before_normals, proposed - current, F, kHalvings, &step);
       if (!(step.maxCoeff() > 0)) break;
       current = next;
       ++out.rounds;

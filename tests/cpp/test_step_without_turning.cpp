@@ -16,13 +16,19 @@ int faces_turned(const MatrixX3d& before, const MatrixX3d& after, const MatrixX3
   return turned;
 }
 
+MatrixX3d normals_of(const MatrixX3d& V, const MatrixX3i& F) {
+  MatrixX3d N(F.rows(), 3);
+  for (Index f = 0; f < Index(F.rows()); ++f) N.row(f) = face_normal(V, F, f);
+  return N;
+}
+
 }  // namespace
 
 TEST(StepWithoutTurning, AFreeStepIsTakenWhole) {
   const auto [V, F] = test_meshes::icosphere(2);
   const MatrixX3d move = 0.01 * V;  // a slight inflation turns nothing
   VectorXd shares;
-  const MatrixX3d next = step_without_turning(V, move, F, 12, &shares);
+  const MatrixX3d next = step_without_turning(V, normals_of(V, F), move, F, 12, &shares);
   EXPECT_TRUE(next.isApprox(V + move, 0));
   EXPECT_EQ(shares.minCoeff(), 1.0);
 }
@@ -35,7 +41,7 @@ TEST(StepWithoutTurning, HalvesOnlyAroundTheFacesThatWouldTurn) {
   const Index pushed = 0;
   move.row(pushed) = -2.0 * V.row(pushed);
   VectorXd shares;
-  const MatrixX3d next = step_without_turning(V, move, F, 12, &shares);
+  const MatrixX3d next = step_without_turning(V, normals_of(V, F), move, F, 12, &shares);
   EXPECT_EQ(faces_turned(V, next, F), 0);
   EXPECT_LT(shares(pushed), 1.0);
   EXPECT_GT(shares(pushed), 0.0);  // a small enough share of its move turns nothing
@@ -59,7 +65,7 @@ TEST(StepWithoutTurning, WithNoHalvingsLeftTheVerticesStay) {
   MatrixX3d move = MatrixX3d::Zero(V.rows(), 3);
   move.row(0) = -2.0 * V.row(0);
   VectorXd shares;
-  const MatrixX3d next = step_without_turning(V, move, F, 0, &shares);
+  const MatrixX3d next = step_without_turning(V, normals_of(V, F), move, F, 0, &shares);
   EXPECT_EQ(shares(0), 0.0);
   EXPECT_TRUE(next.isApprox(V, 0));
   EXPECT_EQ(faces_turned(V, next, F), 0);
